@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
+# Usage: scripts/install-deps.sh [--with-plots]   (--with-plots adds python3-matplotlib for benchmarks/plots)
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libnanoflann-dev libtinyobjloader-dev catch2 libbenchmark-dev
+  libembree-dev liboctomap-dev libfcl-dev
+  libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev libode-dev
+)
+if [[ "${1:-}" == "--with-plots" ]]; then packages+=(python3-matplotlib python3-numpy); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"
