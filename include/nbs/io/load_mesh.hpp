@@ -1,0 +1,32 @@
+#pragma once
+/// \file
+/// Loads a triangle mesh from OBJ or PLY, chosen by the file's content.
+
+#include <cctype>
+#include <fstream>
+#include <string>
+
+#include "nbs/io/read_obj.hpp"
+#include "nbs/io/read_ply.hpp"
+
+namespace nbs {
+
+/// Loads `path` as PLY if the file starts with the PLY magic line "ply", else as OBJ if its name ends in .obj
+/// (any case), else throws FileError. See read_ply / read_obj for the accepted content and the errors.
+/// The mesh is returned as stored (no unit conversion); see normalize_on_pedestal.
+[[nodiscard]] inline IndexedMesh load_mesh(const std::string& path) {
+  std::string magic(4, '\0');
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw FileError(detail::concat(path, ": cannot open file"));
+    in.read(magic.data(), 4);
+    magic.resize(static_cast<std::size_t>(in.gcount()));
+  }
+  if (magic == "ply\n" || magic == "ply\r") return read_ply(path);
+  std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj") return read_obj(path);
+  throw FileError(detail::concat(path, ": unknown mesh format (expected a PLY file or a .obj file)"));
+}
+
+}  // namespace nbs
