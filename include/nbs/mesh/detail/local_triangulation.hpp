@@ -1,0 +1,290 @@
+#pragma once
+/// \file
+/// Localized triangulation of one new vertex (Sec. 3.3.1, "mesh generation" stage): the R_m neighbourhood is
+/// projected onto the tangent plane of the new vertex v and the patch around v is re-triangulated:
+///  - v inside a projected face: the face is split (1→3, or 1→2 when v lies on a border edge);
+///  - otherwise v is joined to a fan of its visible neighbours (consecutive in angle around v), where a fan
+///    triangle must not cross an existing edge, contain a neighbour, reuse a directed edge, or be a sliver;
+///  - then edges opposite v are flipped while the local Delaunay criterion (in v's tangent plane) asks for it.
+/// Every step keeps: a directed edge belongs to at most one face, no face repeats a vertex set.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <span>
+#include <vector>
+
+#include "nbs/mesh/detail/face_store.hpp"
+
+namespace nbs::detail {
+
+struct TriangulationSettings {
+  double radius_m = 0.006;        ///< R_m.
+  double min_normal_dot = 0.5;    ///< faces / neighbours whose normal differs by more than 60° are not joined.
+  double max_fan_gap_rad = 2.8;   ///< a fan triangle spans at most ≈160° at v.
+  double min_angle_rad = 0.12;    ///< ≈7°: no fan triangle with a smaller interior angle.
+  int max_fan_neighbours = 16;    ///< nearest neighbours considered for the fan.
+  int max_flips = 64;             ///< per inserted vertex.
+};
+
+class LocalTriangulator {
+  using P2 = Eigen::Vector2d;
+  struct FanCandidate {
+    VertexId id;
+    double angle;
+    P2 p2;
+  };
+  struct Edge2 {
+    VertexId a, b;
+    P2 pa, pb;
+  };
+
+public:
+  LocalTriangulator(FaceStore& faces, const std::vector<Vec3>& positions, const std::vector<Vec3>& normals)
+      : fs_(faces), pos_(positions), nrm_(normals) {}
+
+  /// Triangulates the meshless vertex v with unit normal nrm_[v]. `neighbours`: vertices with normals within R_m
+  /// of v, nearest first. Returns the number of faces created or changed.
+  int insert(VertexId v, std::span<const VertexId> neighbours, const TriangulationSettings& s, std::uint32_t scan) {
+    v_ = v;
+    s_ = s;
+    scan_ = scan;
+    n_ = nrm_[v];
+    inv_r_ = 1.0 / s.radius_m;
+    u_ = n_.unitOrthogonal();
+    w_ = n_.cross(u_);
+    touched_ = 0;
+    local_.clear();
+    for (VertexId q : neighbours) {
+      if (static_cast<int>(local_.size()) >= s.max_fan_neighbours) break;
+      const Vec3 d = pos_[q] - pos_[v];
+      if (nrm_[q].dot(n_) < s.min_normal_dot || std::abs(d.dot(n_)) > 0.5 * d.norm()) continue;
+      local_.push_back(q);
+    }
+    if (local_.empty()) return 0;
+    collect_local_faces();
+    if (!split_containing_face()) fan();
+    legalize();
+    return touched_;
+  }
+
+private:
+  static constexpr double kEps = 1e-12;
+  static constexpr double kSameDirectionRad = 0.035;  // 2°
+
+  [[nodiscard]] P2 project(VertexId q) const {
+    const Vec3 d = (pos_[q] - pos_[v_]) * inv_r_;
+    return {d.dot(u_), d.dot(w_)};
+  }
+  [[nodiscard]] static double orient(const P2& a, const P2& b, const P2& c) {
+    return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  }
+  /// True if segments ab and cd cross at a point interior to both (touching/collinear does not count).
+  [[nodiscard]] static bool cross(const P2& a, const P2& b, const P2& c, const P2& d) {
+    const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a), d4 = orient(c, d, b);
+    return ((d1 > kEps && d2 < -kEps) || (d1 < -kEps && d2 > kEps)) &&
+           ((d3 > kEps && d4 < -kEps) || (d3 < -kEps && d4 > kEps));
+  }
+  /// > 0 if d is strictly inside the circumcircle of the counter-clockwise triangle abc.
+  [[nodiscard]] static double incircle(const P2& a, const P2& b, const P2& c, const P2& d) {
+    const P2 ad = a - d, bd = b - d, cd = c - d;
+    const double a2 = ad.squaredNorm(), b2 = bd.squaredNorm(), c2 = cd.squaredNorm();
+    return ad.x() * (bd.y() * c2 - b2 * cd.y()) - ad.y() * (bd.x() * c2 - b2 * cd.x()) +
+           a2 * (bd.x() * cd.y() - bd.y() * cd.x());
+  }
+  [[nodiscard]] Vec3 face_normal(VertexId a, VertexId b, VertexId c) const {
+    return (pos_[b] - pos_[a]).cross(pos_[c] - pos_[a]);
+  }
+  [[nodiscard]] bool normal_agrees(VertexId a, VertexId b, VertexId c) const {
+    const Vec3 fn = face_normal(a, b, c);
+    const double len = fn.norm();
+    return len > 0.0 && fn.dot(n_) >= s_.min_normal_dot * len;
+  }
+  [[nodiscard]] double min_angle(VertexId a, VertexId b, VertexId c) const {
+    const std::array<Vec3, 3> p{pos_[a], pos_[b], pos_[c]};
+    double m = std::numbers::pi;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+      m = std::min(m, std::atan2(e1.cross(e2).norm(), e1.dot(e2)));
+    }
+    return m;
+  }
+
+  void collect_local_faces() {
+    faces_.clear();
+    for (VertexId q : local_)
+      for (std::uint32_t f : fs_.faces_of(q)) faces_.push_back(f);
+    std::sort(faces_.begin(), faces_.end());
+    faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
+  }
+
+  /// Case "inside": v projects into a compatible local face → split it. Returns true if it did.
+  bool split_containing_face() {
+    const P2 o(0.0, 0.0);
+    for (std::uint32_t f : faces_) {
+      const auto [a, b, c] = fs_.face(f);
+      if (!normal_agrees(a, b, c)) continue;
+      const P2 pa = project(a), pb = project(b), pc = project(c);
+      const double area = orient(pa, pb, pc);
+      if (area <= kEps) continue;
+      const std::array<double, 3> bary{orient(pb, pc, o) / area, orient(pc, pa, o) / area, orient(pa, pb, o) / area};
+      if (*std::min_element(bary.begin(), bary.end()) < 0.0) continue;
+      const Vec3 fn = face_normal(a, b, c).normalized();
+      if (std::abs(fn.dot(pos_[v_] - pos_[a])) > 0.25 * s_.radius_m) continue;
+      // v on (or very near) an edge: bary of the opposite corner ≈ 0.
+      const int k = static_cast<int>(std::min_element(bary.begin(), bary.end()) - bary.begin());
+      const std::array<VertexId, 3> t{a, b, c};
+      const VertexId e0 = t[(k + 1) % 3], e1 = t[(k + 2) % 3], opp = t[k];
+      if (bary[k] < 0.02) {
+        if (fs_.face_with(e1, e0) == FaceStore::kNoFace) {  // border edge e0→e1: split the face in two
+          fs_.replace(f, e0, v_, opp, scan_);
+          const std::uint32_t g = fs_.add(v_, e1, opp, scan_);
+          new_faces_.push_back(f);
+          new_faces_.push_back(g);
+          touched_ += 2;
+          return true;
+        }
+      }
+      fs_.replace(f, a, b, v_, scan_);
+      new_faces_.push_back(f);
+      new_faces_.push_back(fs_.add(b, c, v_, scan_));
+      new_faces_.push_back(fs_.add(c, a, v_, scan_));
+      touched_ += 3;
+      return true;
+    }
+    return false;
+  }
+
+  /// Case "outside": fan of visible neighbours.
+  void fan() {
+    const P2 o(0.0, 0.0);
+    edges_.clear();  // local edges (2D) of the collected faces, once per face side
+    for (std::uint32_t f : faces_) {
+      const auto& t = fs_.face(f);
+      const std::array<P2, 3> pt{project(t[0]), project(t[1]), project(t[2])};
+      for (int k = 0; k < 3; ++k) edges_.push_back({t[k], t[(k + 1) % 3], pt[k], pt[(k + 1) % 3]});
+    }
+    local_p2_.clear();
+    for (VertexId q : local_) local_p2_.push_back(project(q));
+    vis_.clear();
+    for (std::size_t i = 0; i < local_.size(); ++i) {
+      const VertexId q = local_[i];
+      const P2& pq = local_p2_[i];
+      bool blocked = false;
+      for (const auto& e : edges_) {
+        if (e.a == q || e.b == q) continue;
+        if (cross(o, pq, e.pa, e.pb)) {
+          blocked = true;
+          break;
+        }
+      }
+      if (!blocked) vis_.push_back({q, std::atan2(pq.y(), pq.x()), pq});
+    }
+    if (vis_.size() < 2) return;
+    std::sort(vis_.begin(), vis_.end(), [](const FanCandidate& x, const FanCandidate& y) { return x.angle < y.angle; });
+    // Neighbours in (almost) the same direction: the nearer one hides the farther.
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < vis_.size(); ++i) {
+      if (kept > 0 && vis_[i].angle - vis_[kept - 1].angle < kSameDirectionRad) {
+        if (vis_[i].p2.squaredNorm() < vis_[kept - 1].p2.squaredNorm()) vis_[kept - 1] = vis_[i];
+        continue;
+      }
+      vis_[kept++] = vis_[i];
+    }
+    vis_.resize(kept);
+    if (vis_.size() > 2 && vis_.back().angle - vis_.front().angle > 2.0 * std::numbers::pi - kSameDirectionRad) {
+      if (vis_.back().p2.squaredNorm() < vis_.front().p2.squaredNorm()) vis_.front() = vis_.back();
+      vis_.pop_back();
+    }
+    if (vis_.size() < 2) return;
+    const std::size_t m = vis_.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      const FanCandidate& cp = vis_[i];
+      const FanCandidate& cq = vis_[(i + 1) % m];
+      if (cp.id == cq.id) continue;
+      double gap = cq.angle - cp.angle;
+      if (gap <= 0.0) gap += 2.0 * std::numbers::pi;
+      if (gap <= 1e-9 || gap > s_.max_fan_gap_rad) continue;
+      try_fan_triangle(cp, cq);
+    }
+  }
+
+  void try_fan_triangle(const FanCandidate& cp, const FanCandidate& cq) {
+    const P2 o(0.0, 0.0);
+    const VertexId p = cp.id, q = cq.id;
+    const P2& pp = cp.p2;
+    const P2& pq = cq.p2;
+    if (orient(o, pp, pq) <= kEps) return;
+    if ((pos_[p] - pos_[q]).norm() > s_.radius_m) return;
+    if (fs_.face_with(p, q) != FaceStore::kNoFace || fs_.face_with(v_, p) != FaceStore::kNoFace ||
+        fs_.face_with(q, v_) != FaceStore::kNoFace)
+      return;
+    if (!normal_agrees(v_, p, q) || min_angle(v_, p, q) < s_.min_angle_rad) return;
+    for (const auto& e : edges_) {
+      if (e.a == p || e.b == p || e.a == q || e.b == q) continue;
+      if (cross(pp, pq, e.pa, e.pb)) return;
+    }
+    auto inside = [&](const P2& x) {
+      return orient(o, pp, x) > kEps && orient(pp, pq, x) > kEps && orient(pq, o, x) > kEps;
+    };
+    for (std::size_t i = 0; i < local_.size(); ++i)
+      if (local_[i] != p && local_[i] != q && inside(local_p2_[i])) return;
+    for (const auto& e : edges_)
+      if (e.a != p && e.a != q && e.a != v_ && inside(e.pa)) return;
+    new_faces_.push_back(fs_.add(v_, p, q, scan_));
+    edges_.push_back({v_, p, o, pp});
+    edges_.push_back({p, q, pp, pq});
+    edges_.push_back({q, v_, pq, o});
+    ++touched_;
+  }
+
+  /// Flips edges opposite v while the opposite vertex lies inside the circumcircle (Lawson), bounded by max_flips.
+  void legalize() {
+    int flips = 0;
+    while (!new_faces_.empty()) {
+      const std::uint32_t f = new_faces_.back();
+      new_faces_.pop_back();
+      if (flips >= s_.max_flips) continue;
+      auto t = fs_.face(f);
+      int k = 0;
+      while (k < 3 && t[k] != v_) ++k;
+      if (k == 3) continue;
+      const VertexId p = t[(k + 1) % 3], q = t[(k + 2) % 3];
+      const std::uint32_t g = fs_.face_with(q, p);
+      if (g == FaceStore::kNoFace) continue;
+      const VertexId r = fs_.opposite(g, q, p);
+      if (r == v_ || r == kNoVertex || fs_.has_edge(v_, r)) continue;
+      if ((pos_[r] - pos_[v_]).norm() > s_.radius_m) continue;
+      if (!normal_agrees(q, p, r)) continue;
+      const P2 o(0.0, 0.0), pp = project(p), pq = project(q), pr = project(r);
+      if (orient(o, pp, pr) <= kEps || orient(o, pr, pq) <= kEps) continue;  // quad not convex
+      if (incircle(o, pp, pq, pr) <= kEps * kEps) continue;
+      fs_.replace(f, v_, p, r, scan_);
+      fs_.replace(g, v_, r, q, scan_);
+      new_faces_.push_back(f);
+      new_faces_.push_back(g);
+      ++flips;
+      ++touched_;
+    }
+  }
+
+
+  FaceStore& fs_;
+  const std::vector<Vec3>& pos_;
+  const std::vector<Vec3>& nrm_;
+  VertexId v_ = kNoVertex;
+  TriangulationSettings s_;
+  std::uint32_t scan_ = 0;
+  Vec3 n_ = Vec3::UnitZ(), u_ = Vec3::UnitX(), w_ = Vec3::UnitY();
+  double inv_r_ = 1.0;
+  int touched_ = 0;
+  std::vector<VertexId> local_;
+  std::vector<P2> local_p2_;
+  std::vector<std::uint32_t> faces_;
+  std::vector<Edge2> edges_;
+  std::vector<FanCandidate> vis_;
+  std::vector<std::uint32_t> new_faces_;
+};
+
+}  // namespace nbs::detail

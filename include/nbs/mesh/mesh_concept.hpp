@@ -1,0 +1,59 @@
+#pragma once
+/// \file
+/// The edge-mesh concept of Sec. 3.3.1 (Fig. 3.9): vertices with normals and directed edges, each carrying the
+/// vertices v_l / v_r that close its left and right triangles. Faces are derived from the edges.
+///
+/// Orientation: "left of a→b" is judged looking at the surface from the side the vertex normals point to (the
+/// sensor side). A face (a, b, c) is stored counter-clockwise around its normal, so c is the left vertex of a→b.
+
+#include <concepts>
+#include <cstdint>
+#include <limits>
+
+#include "nbs/core/types.hpp"
+
+namespace nbs {
+
+/// Index of a vertex in a mesh.
+using VertexId = std::uint32_t;
+/// "No vertex": the side of an edge that has no triangle.
+inline constexpr VertexId kNoVertex = std::numeric_limits<VertexId>::max();
+
+/// One undirected edge, reported once, directed a→b with a < b (Fig. 3.9).
+struct MeshEdge {
+  VertexId a = kNoVertex;      ///< v_a (start).
+  VertexId b = kNoVertex;      ///< v_b (end).
+  VertexId left = kNoVertex;   ///< v_l: closes the triangle on the left of a→b, or kNoVertex.
+  VertexId right = kNoVertex;  ///< v_r: closes the triangle on the right of a→b, or kNoVertex.
+
+  /// Border edge, Eq. (4.1): exactly one of v_l, v_r exists.
+  [[nodiscard]] bool is_border() const { return (left == kNoVertex) != (right == kNoVertex); }
+};
+
+/// A triangle (a, b, c), counter-clockwise around the surface normal.
+struct MeshFace {
+  VertexId a = kNoVertex, b = kNoVertex, c = kNoVertex;
+};
+
+/// Edge mesh (Sec. 3.3.1). Coordinates in metres, world frame; normals unit length (zero for a vertex without a
+/// robust normal). `for_each_edge` visits every edge exactly once; `for_each_face` every triangle exactly once.
+/// `left_vertex(a, b)` is the vertex closing the triangle to the left of a→b, or kNoVertex.
+template <class M>
+concept EdgeMesh = requires(const M& m, VertexId v, void (*edge_fn)(const MeshEdge&),
+                            void (*face_fn)(const MeshFace&)) {
+  { m.vertex_count() } -> std::convertible_to<std::size_t>;
+  { m.position(v) } -> std::convertible_to<Vec3>;
+  { m.normal(v) } -> std::convertible_to<Vec3>;
+  { m.face_count() } -> std::convertible_to<std::size_t>;
+  { m.left_vertex(v, v) } -> std::convertible_to<VertexId>;
+  m.for_each_edge(edge_fn);
+  m.for_each_face(face_fn);
+};
+
+/// Optional capability: the mesh tracks M_cur, the part touched by the current scan (Sec. 4.2).
+template <class M>
+concept TracksCurrentScan = EdgeMesh<M> && requires(const M& m, const MeshEdge& e) {
+  { m.in_current_scan(e) } -> std::convertible_to<bool>;
+};
+
+}  // namespace nbs

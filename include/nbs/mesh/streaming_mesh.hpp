@@ -1,0 +1,316 @@
+#pragma once
+/// \file
+/// StreamingMesh: the default EdgeMesh, built point by point from the sensor stream (Sec. 3.3.1, after
+/// Bodenmüller 2009). Each point passes three stages:
+///  1. density limitation: dropped if closer than R_r to a stored point (so no two vertices are closer than R_r);
+///  2. normal estimation: weighted PCA over the R_n ball, oriented against the line of sight; a point whose normal is
+///     not robust (too few neighbours, collinear or non-flat neighbourhood) is kept pending and retried when new
+///     points arrive within R_n;
+///  3. localized triangulation of the R_m ball in the tangent plane of the new vertex (detail/local_triangulation).
+/// Neighbour queries use a spatial hash with cells of R_m / 2; the density limitation bounds the points per cell,
+/// so the cost per point does not grow with the model. Points outside the bounding box of the unknown area are
+/// dropped (pass-through filter, Sec. 4.1). Faces created or changed since `begin_scan()` form M_cur (Sec. 4.2).
+///
+/// Units: metres, world frame. Not thread-safe; const members may be called concurrently when no thread writes.
+
+#include <algorithm>
+#include <cstdint>
+#include <numbers>
+#include <span>
+#include <vector>
+
+#include "nbs/core/parameters.hpp"
+#include "nbs/core/scan.hpp"
+#include "nbs/mesh/detail/face_store.hpp"
+#include "nbs/mesh/detail/local_triangulation.hpp"
+#include "nbs/mesh/detail/normal_estimation.hpp"
+#include "nbs/mesh/detail/spatial_hash.hpp"
+#include "nbs/mesh/mesh_concept.hpp"
+
+namespace nbs {
+
+/// Settings of the streaming reconstruction. Radii from `Parameters` (Tab. 4.3); the rest are our choices.
+struct StreamingMeshSettings {
+  double reduction_radius_m = 0.0005;  ///< R_r.
+  double normal_radius_m = 0.004;      ///< R_n.
+  double mesh_radius_m = 0.006;        ///< R_m.
+  Aabb pass_through;                   ///< bounding box of the unknown area; empty box = no filter.
+  detail::NormalRobustness robustness; ///< when a PCA normal counts as robust.
+  double min_normal_dot = 0.5;         ///< vertices/faces with normals more than 60° apart are not connected.
+
+  [[nodiscard]] static StreamingMeshSettings from(const Parameters& p, const Aabb& unknown_area = {}) {
+    p.validate();
+    StreamingMeshSettings s;
+    s.reduction_radius_m = p.reduction_radius_m;
+    s.normal_radius_m = p.normal_radius_m;
+    s.mesh_radius_m = p.mesh_radius_m;
+    s.pass_through = unknown_area;
+    return s;
+  }
+  /// Throws InvalidArgument naming the first bad field.
+  void validate() const {
+    detail::require_positive("reduction_radius_m", reduction_radius_m);
+    detail::require_positive("normal_radius_m", normal_radius_m);
+    detail::require_positive("mesh_radius_m", mesh_radius_m);
+    detail::require(reduction_radius_m < mesh_radius_m && reduction_radius_m < normal_radius_m,
+                    "reduction_radius_m (", reduction_radius_m, ") must be smaller than normal_radius_m (",
+                    normal_radius_m, ") and mesh_radius_m (", mesh_radius_m, ")");
+    detail::require(robustness.min_neighbours >= 3, "robustness.min_neighbours must be >= 3, got ",
+                    robustness.min_neighbours);
+    detail::require_in_range("min_normal_dot", min_normal_dot, -1.0, 1.0);
+  }
+};
+
+/// What happened to one incoming point.
+enum class InsertResult : std::uint8_t {
+  invalid,        ///< non-finite point or line of sight, or zero line of sight: skipped.
+  outside,        ///< outside the pass-through box: skipped.
+  too_close,      ///< closer than R_r to a stored point: skipped (density limitation).
+  pending,        ///< stored, normal not (yet) robust: not a mesh vertex yet.
+  meshed,         ///< stored with a robust normal and triangulated.
+};
+
+/// Counters of the stream (all since construction).
+struct StreamingStats {
+  std::uint64_t received = 0;       ///< points offered to insert().
+  std::uint64_t invalid = 0;        ///< skipped: NaN/inf coordinates or zero line of sight.
+  std::uint64_t outside = 0;        ///< skipped by the pass-through filter.
+  std::uint64_t too_close = 0;      ///< skipped by the density limitation.
+  std::uint64_t stored = 0;         ///< points kept (= vertex_count()).
+  std::uint64_t meshed = 0;         ///< points with a robust normal, passed to triangulation.
+  std::uint64_t normal_failures = 0;///< normal estimations that were not robust (collinear, too few neighbours...).
+};
+
+class StreamingMesh {
+public:
+  explicit StreamingMesh(const Parameters& p = {}, const Aabb& unknown_area = {})
+      : StreamingMesh(StreamingMeshSettings::from(p, unknown_area)) {}
+  explicit StreamingMesh(const StreamingMeshSettings& s)
+      : settings_((s.validate(), s)), grid_(s.mesh_radius_m / 2.0), tri_(faces_, pos_, nrm_) {
+    tri_settings_.radius_m = s.mesh_radius_m;
+    tri_settings_.min_normal_dot = s.min_normal_dot;
+  }
+  StreamingMesh(const StreamingMesh&) = delete;  // the triangulator borrows members
+  StreamingMesh& operator=(const StreamingMesh&) = delete;
+
+  // --- Stream input ---------------------------------------------------------------------------------------------
+  /// Starts a new scan: M_cur becomes empty; `sensor` (T_WS of the scan, e.g. its first profile) is remembered
+  /// for boundary detection.
+  void begin_scan(const Pose& sensor = Pose::Identity()) {
+    ++scan_;
+    sensor_ = sensor;
+  }
+
+  /// Inserts one measured point `p` (world, m) seen along `line_of_sight` (sensor → point, any positive length).
+  InsertResult insert(const Vec3& p, const Vec3& line_of_sight);
+
+  /// begin_scan(scan's first profile pose) + insert every point with its line of sight. Returns points meshed.
+  std::size_t integrate(const Scan& scan) {
+    begin_scan(scan.profile_poses.empty() ? Pose::Identity() : scan.profile_poses.front());
+    std::size_t meshed = 0;
+    for (std::size_t i = 0; i < scan.points.size(); ++i) {
+      const bool ok_profile = i < scan.profile_of_point.size() && scan.profile_of_point[i] < scan.profile_poses.size();
+      const Vec3 los = ok_profile ? scan.line_of_sight(i) : Vec3::Zero();
+      meshed += insert(scan.points[i], los) == InsertResult::meshed ? 1 : 0;
+    }
+    return meshed;
+  }
+
+  // --- EdgeMesh concept -----------------------------------------------------------------------------------------
+  [[nodiscard]] std::size_t vertex_count() const { return pos_.size(); }
+  [[nodiscard]] const Vec3& position(VertexId v) const { return pos_[v]; }
+  /// Unit normal pointing to the sensor side; zero while the vertex is pending (no robust normal).
+  [[nodiscard]] const Vec3& normal(VertexId v) const { return nrm_[v]; }
+  [[nodiscard]] std::size_t face_count() const { return faces_.face_count(); }
+  [[nodiscard]] VertexId left_vertex(VertexId a, VertexId b) const { return faces_.left_vertex(a, b); }
+  [[nodiscard]] MeshFace face(std::size_t f) const {
+    const auto& t = faces_.face(static_cast<std::uint32_t>(f));
+    return {t[0], t[1], t[2]};
+  }
+  template <class F>
+  void for_each_face(F&& f) const {
+    for (std::uint32_t i = 0; i < faces_.face_count(); ++i) {
+      const auto& t = faces_.face(i);
+      f(MeshFace{t[0], t[1], t[2]});
+    }
+  }
+  /// Every undirected edge once, directed from the smaller to the larger vertex id.
+  template <class F>
+  void for_each_edge(F&& f) const {
+    for (std::uint32_t i = 0; i < faces_.face_count(); ++i) {
+      const auto& t = faces_.face(i);
+      for (int k = 0; k < 3; ++k) {
+        const VertexId a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+        if (a < b)
+          f(MeshEdge{a, b, c, faces_.left_vertex(b, a)});
+        else if (faces_.face_with(b, a) == detail::FaceStore::kNoFace)
+          f(MeshEdge{b, a, kNoVertex, c});
+      }
+    }
+  }
+  /// True if a triangle of `e` was created or changed in the current scan (e ∈ M_cur, Eq. 4.2).
+  [[nodiscard]] bool in_current_scan(const MeshEdge& e) const {
+    for (VertexId c : {e.left, e.right}) {
+      if (c == kNoVertex) continue;
+      const std::uint32_t f = c == e.left ? faces_.face_with(e.a, e.b) : faces_.face_with(e.b, e.a);
+      if (f != detail::FaceStore::kNoFace && faces_.face_scan(f) == scan_) return true;
+    }
+    return false;
+  }
+
+  // --- Analysis -------------------------------------------------------------------------------------------------
+  /// True once v has a robust normal (it is a mesh vertex, possibly without triangles yet).
+  [[nodiscard]] bool has_normal(VertexId v) const { return nrm_[v].squaredNorm() > 0.0; }
+  /// True if v belongs to at least one triangle.
+  [[nodiscard]] bool in_triangle(VertexId v) const { return faces_.has_faces(v); }
+  /// N_act: stored points within R_n of v, v included (Eq. 4.24).
+  [[nodiscard]] std::uint32_t neighbour_count(VertexId v) const { return count_[v]; }
+  /// N_max = √2 π R_n² / R_r² (Eq. 4.25).
+  [[nodiscard]] double max_neighbours() const {
+    const double q = settings_.normal_radius_m / settings_.reduction_radius_m;
+    return std::numbers::sqrt2 * std::numbers::pi * q * q;
+  }
+  /// Relative density d(v) = N_act / N_max ∈ [0, 1] (Eq. 4.24, clamped).
+  [[nodiscard]] double relative_density(VertexId v) const {
+    return std::min(1.0, static_cast<double>(count_[v]) / max_neighbours());
+  }
+  /// Index of the current scan (0 before the first begin_scan) and its sensor pose.
+  [[nodiscard]] std::uint32_t current_scan() const { return scan_; }
+  [[nodiscard]] const Pose& current_sensor() const { return sensor_; }
+  [[nodiscard]] const StreamingStats& stats() const { return stats_; }
+  [[nodiscard]] const StreamingMeshSettings& settings() const { return settings_; }
+  /// Heap + object bytes (capacity-based estimate).
+  [[nodiscard]] std::size_t memory_bytes() const {
+    return sizeof(*this) + pos_.capacity() * sizeof(Vec3) + nrm_.capacity() * sizeof(Vec3) +
+           los_.capacity() * sizeof(Eigen::Vector3f) + count_.capacity() * sizeof(std::uint32_t) +
+           attempt_.capacity() * sizeof(std::uint32_t) + faces_.memory_bytes() + grid_.memory_bytes();
+  }
+
+private:
+  /// Stored points within `r` of `c` (excluding `self`) into `out` as (squared distance, id).
+  void gather(const Vec3& c, double r, VertexId self, std::vector<std::pair<double, VertexId>>& out) const {
+    out.clear();
+    const double r2 = r * r;
+    grid_.for_each_candidate(c, r, [&](std::uint32_t id) {
+      if (id == self) return;
+      const double d2 = (pos_[id] - c).squaredNorm();
+      if (d2 <= r2) out.emplace_back(d2, id);
+    });
+  }
+  [[nodiscard]] bool too_close(const Vec3& p) const {
+    const double r2 = settings_.reduction_radius_m * settings_.reduction_radius_m;
+    bool close = false;
+    grid_.for_each_candidate(p, settings_.reduction_radius_m, [&](std::uint32_t id) {
+      close = close || (pos_[id] - p).squaredNorm() < r2;
+    });
+    return close;
+  }
+  /// Estimates the normal of v from its R_n ball (in `ball_` after gather). True if robust.
+  bool estimate(VertexId v);
+  /// Triangulates v (normal set) using its R_m ball in `ball_`.
+  void triangulate(VertexId v);
+
+  StreamingMeshSettings settings_;
+  detail::TriangulationSettings tri_settings_;
+  std::vector<Vec3> pos_;
+  std::vector<Vec3> nrm_;
+  std::vector<Eigen::Vector3f> los_;        ///< unit line of sight, kept for pending re-estimation.
+  std::vector<std::uint32_t> count_;        ///< N_act.
+  std::vector<std::uint32_t> attempt_;      ///< N_act at the last failed normal estimation (0 = never tried).
+  detail::FaceStore faces_;
+  detail::SpatialHash grid_;
+  detail::LocalTriangulator tri_;
+  std::uint32_t scan_ = 0;
+  Pose sensor_ = Pose::Identity();
+  StreamingStats stats_;
+  // scratch
+  std::vector<std::pair<double, VertexId>> ball_, ball2_;
+  std::vector<Vec3> pts_;
+  std::vector<VertexId> meshed_nb_, retry_;
+};
+
+// ---- implementation ------------------------------------------------------------------------------------------------
+
+inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sight) {
+  ++stats_.received;
+  const double los_norm = line_of_sight.norm();
+  if (!p.allFinite() || !line_of_sight.allFinite() || !(los_norm > 1e-12)) {
+    ++stats_.invalid;
+    return InsertResult::invalid;
+  }
+  if (!settings_.pass_through.empty() && !settings_.pass_through.contains(p)) {
+    ++stats_.outside;
+    return InsertResult::outside;
+  }
+  if (too_close(p)) {
+    ++stats_.too_close;
+    return InsertResult::too_close;
+  }
+  const auto v = static_cast<VertexId>(pos_.size());
+  pos_.push_back(p);
+  nrm_.push_back(Vec3::Zero());
+  los_.push_back((line_of_sight / los_norm).cast<float>());
+  count_.push_back(1);
+  attempt_.push_back(0);
+  faces_.add_vertex();
+  grid_.insert(p, v);
+  ++stats_.stored;
+
+  gather(p, settings_.mesh_radius_m, v, ball_);
+  const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
+  std::vector<VertexId>& retry = retry_;
+  retry.clear();
+  for (const auto& [d2, q] : ball_) {
+    if (d2 > rn2) continue;
+    ++count_[v];
+    ++count_[q];
+    if (!has_normal(q) && static_cast<int>(count_[q]) >= settings_.robustness.min_neighbours &&
+        count_[q] >= attempt_[q] + 2)
+      retry.push_back(q);
+  }
+  InsertResult result = InsertResult::pending;
+  if (estimate(v)) {
+    triangulate(v);
+    result = InsertResult::meshed;
+  }
+  // Pending neighbours got a new point: retry them, each with its own ball.
+  for (VertexId q : retry_) {
+    gather(pos_[q], settings_.mesh_radius_m, q, ball_);
+    if (estimate(q)) triangulate(q);
+  }
+  return result;
+}
+
+inline bool StreamingMesh::estimate(VertexId v) {
+  const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
+  pts_.clear();
+  pts_.push_back(pos_[v]);
+  for (const auto& [d2, q] : ball_)
+    if (d2 <= rn2) pts_.push_back(pos_[q]);
+  const auto est = detail::estimate_normal(pos_[v], pts_, settings_.normal_radius_m, los_[v].cast<double>(),
+                                           settings_.robustness);
+  if (!est.robust) {
+    ++stats_.normal_failures;
+    attempt_[v] = count_[v];
+    return false;
+  }
+  nrm_[v] = est.normal;
+  ++stats_.meshed;
+  return true;
+}
+
+inline void StreamingMesh::triangulate(VertexId v) {
+  ball2_.clear();
+  for (const auto& e : ball_)
+    if (has_normal(e.second)) ball2_.push_back(e);
+  const std::size_t k = std::min<std::size_t>(ball2_.size(), 2 * static_cast<std::size_t>(tri_settings_.max_fan_neighbours));
+  std::partial_sort(ball2_.begin(), ball2_.begin() + static_cast<std::ptrdiff_t>(k), ball2_.end());
+  meshed_nb_.clear();
+  for (std::size_t i = 0; i < k; ++i) meshed_nb_.push_back(ball2_[i].second);
+  tri_.insert(v, meshed_nb_, tri_settings_, scan_);
+}
+
+static_assert(EdgeMesh<StreamingMesh>);
+static_assert(TracksCurrentScan<StreamingMesh>);
+
+}  // namespace nbs
