@@ -1,0 +1,4 @@
+# Simulated scanner vs raw Embree (issue 2): bench_scanner.
+if(TARGET nbs::embree)
+  nbs_add_benchmark(scanner SOURCES ${CMAKE_CURRENT_LIST_DIR}/bench_scanner.cpp LIBS nbs::embree)
+endif()
