@@ -2,6 +2,7 @@
 // Test helper: a laser stripe profiler simulated analytically (no Embree). Rays of each profile lie in the sensor
 // x–z plane (types.hpp convention), the path moves along sensor y; hits get seeded Gaussian noise along the ray.
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <random>
@@ -42,6 +43,7 @@ struct Sphere : Shape {
   Vec3 c;
   double r;
   std::vector<std::pair<Vec3, double>> holes;
+  double min_z = -1e9;  // surface below this height does not return (a dome on a pedestal)
   Sphere(const Vec3& c_, double r_) : c(c_), r(r_) {}
   bool in_hole(const Vec3& p) const {
     const Vec3 u = (p - c).normalized();
@@ -54,9 +56,9 @@ struct Sphere : Shape {
     const double b = oc.dot(d), cc = oc.squaredNorm() - r * r, disc = b * b - cc;
     if (disc < 0) return std::nullopt;
     const double s = std::sqrt(disc);
-    for (double t : {-b - s, -b + s})  // outer face first; through a hole the ray may see the inside
-      if (t > 0 && !in_hole(o + t * d)) return t;
-    return std::nullopt;
+    const double t = -b - s;  // outer face; a hole is a non-returning (black) spot
+    if (t <= 0 || in_hole(o + t * d) || (o + t * d).z() < min_z) return std::nullopt;
+    return t;
   }
   Vec3 normal_at(const Vec3& p) const override { return (p - c).normalized(); }
 };
@@ -144,6 +146,19 @@ inline Scan scan_path(const Shape& shape, const Viewpoint& start, double length_
     }
   }
   return scan;
+}
+
+}  // namespace nbs::test
+
+namespace nbs::test {
+
+/// Noise-free hit points of every ray of the scan described by the arguments: the "scanned region" oracle.
+inline std::vector<Vec3> scanned_region(const Shape& shape, const Viewpoint& start, double length_m, StripeSensor s,
+                                        int ray_stride, int profile_stride) {
+  s.noise_sigma_m = 0.0;
+  s.rays = std::max(1, s.rays / ray_stride);
+  s.step_m *= profile_stride;
+  return scan_path(shape, start, length_m, s, 0).points;
 }
 
 }  // namespace nbs::test

@@ -3,36 +3,181 @@
 #include <cmath>
 #include <limits>
 
-#include "analytic_scanner.hpp"
+#include "mesh_test_util.hpp"
+#include "nbs/mesh/conversion.hpp"
+#include "nbs/mesh/density.hpp"
 #include "nbs/mesh/invariants.hpp"
-#include "nbs/mesh/streaming_mesh.hpp"
 
 using nbs::Vec3;
+using nbs::test::down_at;
 
 namespace {
-nbs::Viewpoint down_at(double x, double y, double height) {
-  return nbs::Viewpoint::from_axes(Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, -1), Vec3(x, y, height));
+const double kCa = nbs::Parameters{}.completeness_radius_m;  // r of c_a (3 mm)
+
+void require_consistent(const nbs::StreamingMesh& mesh) {
+  const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
+  INFO(rep.problems);
+  REQUIRE(rep.ok());
 }
 }  // namespace
 
-TEST_CASE("plane patch: invariants, normals", "[mesh]") {
+TEST_CASE("plane: consistent, normals match, scanned region covered", "[mesh]") {
   nbs::test::PlanePatch plane(0.03, 0.03);
-  nbs::test::StripeSensor sensor;
-  const auto scan = nbs::test::scan_path(plane, down_at(0, 0.04, 0.15), 0.08, sensor, 1);
+  const nbs::test::StripeSensor sensor;
+  const auto start = down_at(0, 0.04, 0.15);
   nbs::StreamingMesh mesh;
-  mesh.integrate(scan);
-  const auto& st = mesh.stats();
-  WARN("received " << st.received << " stored " << st.stored << " meshed " << st.meshed << " faces "
-                   << mesh.face_count() << " normal failures " << st.normal_failures);
-  double area = 0;
-  std::size_t border = 0, edges = 0, isolated = 0;
-  mesh.for_each_face([&](const nbs::MeshFace& f) {
-    area += 0.5 * (mesh.position(f.b) - mesh.position(f.a)).cross(mesh.position(f.c) - mesh.position(f.a)).norm();
-  });
-  mesh.for_each_edge([&](const nbs::MeshEdge& e) { ++edges; border += e.is_border(); });
-  for (nbs::VertexId v = 0; v < mesh.vertex_count(); ++v) isolated += !mesh.in_triangle(v);
-  WARN("area mm2 " << area * 1e6 << " edges " << edges << " border " << border << " isolated " << isolated);
-  const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
-  INFO(rep.problems);
-  CHECK(rep.ok());
+  mesh.integrate(nbs::test::scan_path(plane, start, 0.08, sensor, 1));
+  require_consistent(mesh);
+  CHECK(mesh.face_count() > 0);
+  CHECK(nbs::test::normal_agreement(mesh, plane, 10.0 * M_PI / 180.0, [](const Vec3&) { return false; }) >= 0.99);
+  CHECK(nbs::test::coverage(mesh, nbs::test::scanned_region(plane, start, 0.08, sensor, 10, 10), kCa) >= 0.99);
+  // Filled area close to the patch area (the border loses at most about one edge length).
+  const auto im = nbs::to_indexed_mesh(mesh);
+  CHECK(im.area() == Approx(0.06 * 0.06).epsilon(0.05));
+}
+
+TEST_CASE("sphere, cube, cylinder: consistent, normals, coverage", "[mesh]") {
+  nbs::test::StripeSensor sensor;
+  sensor.fov_rad = 0.6;
+  sensor.rays = 400;
+  SECTION("sphere") {
+    nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.04);
+    const auto start = down_at(0, 0.05, 0.2);
+    nbs::StreamingMesh mesh;
+    mesh.integrate(nbs::test::scan_path(sphere, start, 0.1, sensor, 2));
+    require_consistent(mesh);
+    CHECK(nbs::test::normal_agreement(mesh, sphere, 10.0 * M_PI / 180.0, [](const Vec3&) { return false; }) >= 0.98);
+    // Region seen at incidence below 70°: grazing hits are not expected to be meshed.
+    auto region = nbs::test::scanned_region(sphere, start, 0.1, sensor, 10, 10);
+    std::erase_if(region, [](const Vec3& p) { return p.normalized().z() < std::cos(70.0 * M_PI / 180.0); });
+    CHECK(nbs::test::coverage(mesh, region, kCa) >= 0.99);
+  }
+  SECTION("cube seen from a diagonal") {
+    nbs::test::Box box(Vec3(-0.03, -0.03, 0), Vec3(0.03, 0.03, 0.06));
+    const Vec3 z = Vec3(-1, 0, -1).normalized();  // looks at the +x face and the top
+    // right-handed sensor frame: x = y × z
+    const auto vp = nbs::Viewpoint::from_axes(Vec3(0, -1, 0).cross(z), Vec3(0, -1, 0), z, Vec3(0.15, 0.05, 0.2));
+    nbs::StreamingMesh mesh;
+    mesh.integrate(nbs::test::scan_path(box, vp, 0.1, sensor, 3));
+    require_consistent(mesh);
+    auto near_edge = [](const Vec3& p) {
+      int close = 0;
+      for (int i = 0; i < 3; ++i)
+        close += (std::abs(p[i] - (i == 2 ? 0.06 : 0.03)) < 0.004 || std::abs(p[i] - (i == 2 ? 0.0 : -0.03)) < 0.004);
+      return close >= 2;
+    };
+    CHECK(nbs::test::normal_agreement(mesh, box, 10.0 * M_PI / 180.0, near_edge) >= 0.98);
+    CHECK(nbs::test::coverage(mesh, nbs::test::scanned_region(box, vp, 0.1, sensor, 10, 10), kCa) >= 0.99);
+  }
+  SECTION("cylinder seen from the side") {
+    nbs::test::Cylinder cyl(0, 0, 0.03, 0.0, 0.08);
+    const Vec3 z(-1, 0, 0);
+    const auto vp = nbs::Viewpoint::from_axes(Vec3(0, 0, 1).cross(z), Vec3(0, 0, 1), z, Vec3(0.2, 0, 0.0));  // x = y × z
+    nbs::StreamingMesh mesh;
+    mesh.integrate(nbs::test::scan_path(cyl, vp, 0.08, sensor, 4));
+    require_consistent(mesh);
+    CHECK(nbs::test::normal_agreement(mesh, cyl, 10.0 * M_PI / 180.0, [](const Vec3&) { return false; }) >= 0.98);
+    auto region = nbs::test::scanned_region(cyl, vp, 0.08, sensor, 10, 10);
+    std::erase_if(region, [](const Vec3& p) { return p.x() / 0.03 < std::cos(70.0 * M_PI / 180.0); });
+    CHECK(nbs::test::coverage(mesh, region, kCa) >= 0.99);
+  }
+}
+
+TEST_CASE("rescanning adds no vertex closer than R_r and keeps the mesh consistent", "[mesh]") {
+  nbs::test::PlanePatch plane(0.02, 0.02);
+  const nbs::test::StripeSensor sensor;
+  nbs::StreamingMesh mesh;
+  mesh.integrate(nbs::test::scan_path(plane, down_at(0, 0.03, 0.15), 0.06, sensor, 1));
+  const std::size_t first = mesh.vertex_count();
+  mesh.integrate(nbs::test::scan_path(plane, down_at(0.001, 0.0305, 0.14), 0.06, sensor, 2));
+  require_consistent(mesh);  // includes: no two vertices closer than R_r
+  CHECK(mesh.vertex_count() >= first);
+  CHECK(mesh.stats().too_close > 0);
+}
+
+TEST_CASE("the result does not depend on how the stream is split into scans", "[mesh]") {
+  nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.03);
+  const auto scan = nbs::test::scan_path(sphere, down_at(0, 0.03, 0.15), 0.06, nbs::test::StripeSensor{}, 5);
+  nbs::StreamingMesh whole, parts;
+  whole.integrate(scan);
+  for (std::size_t lo : {std::size_t{0}, scan.size() / 3, 2 * scan.size() / 3}) {
+    nbs::Scan part;
+    part.profile_poses = scan.profile_poses;
+    const std::size_t hi = lo == 2 * scan.size() / 3 ? scan.size() : lo + scan.size() / 3;
+    for (std::size_t i = lo; i < hi; ++i) part.add_point(scan.points[i], scan.profile_of_point[i]);
+    parts.integrate(part);
+  }
+  REQUIRE(whole.vertex_count() == parts.vertex_count());
+  REQUIRE(whole.face_count() == parts.face_count());
+  for (nbs::VertexId v = 0; v < whole.vertex_count(); ++v) {
+    REQUIRE(whole.position(v) == parts.position(v));
+    REQUIRE(whole.normal(v) == parts.normal(v));
+  }
+  for (std::size_t f = 0; f < whole.face_count(); ++f) {
+    const auto a = whole.face(f), b = parts.face(f);
+    REQUIRE((a.a == b.a && a.b == b.b && a.c == b.c));
+  }
+  CHECK(parts.current_scan() == 3);
+}
+
+TEST_CASE("bad input is skipped, counted, and leaves the mesh consistent", "[mesh]") {
+  nbs::StreamingMesh mesh;
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const Vec3 down(0, 0, -1);
+  CHECK(mesh.insert(Vec3(nan, 0, 0), down) == nbs::InsertResult::invalid);
+  CHECK(mesh.insert(Vec3(0, inf, 0), down) == nbs::InsertResult::invalid);
+  CHECK(mesh.insert(Vec3(0, 0, 0), Vec3::Zero()) == nbs::InsertResult::invalid);
+  CHECK(mesh.insert(Vec3(0, 0, 0), Vec3(nan, 0, 1)) == nbs::InsertResult::invalid);
+  CHECK(mesh.stats().invalid == 4);
+  CHECK(mesh.vertex_count() == 0);
+  // Too few neighbours: pending, not meshed.
+  CHECK(mesh.insert(Vec3(0, 0, 0), down) == nbs::InsertResult::pending);
+  // Duplicates are rejected by the density limitation.
+  CHECK(mesh.insert(Vec3(0, 0, 0), down) == nbs::InsertResult::too_close);
+  CHECK(mesh.insert(Vec3(0.0001, 0, 0), down) == nbs::InsertResult::too_close);
+  // A collinear row never gets a robust normal.
+  for (int i = 1; i < 30; ++i) CHECK(mesh.insert(Vec3(0.0006 * i, 0, 0), down) == nbs::InsertResult::pending);
+  CHECK(mesh.stats().normal_failures > 0);
+  CHECK(mesh.stats().meshed == 0);
+  CHECK(mesh.face_count() == 0);
+  // Line of sight in the tangent plane: no robust orientation.
+  nbs::StreamingMesh side;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) (void)side.insert(Vec3(0.001 * i, 0.001 * j, 0), Vec3(1, 0, 0));
+  CHECK(side.stats().meshed == 0);
+  // Outside the pass-through box.
+  nbs::Aabb box;
+  box.extend(Vec3(-0.01, -0.01, -0.01));
+  box.extend(Vec3(0.01, 0.01, 0.01));
+  nbs::StreamingMesh boxed(nbs::Parameters{}, box);
+  CHECK(boxed.insert(Vec3(0.02, 0, 0), down) == nbs::InsertResult::outside);
+  CHECK(boxed.stats().outside == 1);
+  // Mixed garbage inside a real scan stream.
+  nbs::test::PlanePatch plane(0.01, 0.01);
+  auto scan = nbs::test::scan_path(plane, down_at(0, 0.015, 0.15), 0.03, nbs::test::StripeSensor{}, 6);
+  for (std::size_t i = 0; i < scan.size(); i += 97) scan.points[i] = Vec3(nan, 0, 0);
+  for (std::size_t i = 5; i < scan.size(); i += 89) scan.points[i] = scan.points[i - 1];
+  nbs::StreamingMesh noisy;
+  noisy.integrate(scan);
+  CHECK(noisy.stats().invalid > 0);
+  require_consistent(noisy);
+  require_consistent(mesh);
+}
+
+TEST_CASE("relative density d = N_act / N_max matches a brute-force count (Eqs. 4.24-4.25)", "[mesh]") {
+  nbs::test::PlanePatch plane(0.015, 0.015);
+  nbs::StreamingMesh mesh;
+  mesh.integrate(nbs::test::scan_path(plane, down_at(0, 0.02, 0.15), 0.04, nbs::test::StripeSensor{}, 7));
+  const double rn = mesh.settings().normal_radius_m, rr = mesh.settings().reduction_radius_m;
+  CHECK(mesh.max_neighbours() == Approx(std::sqrt(2.0) * M_PI * rn * rn / (rr * rr)));
+  for (nbs::VertexId v = 0; v < mesh.vertex_count(); v += 37) {
+    std::uint32_t n = 0;
+    for (nbs::VertexId q = 0; q < mesh.vertex_count(); ++q)
+      n += (mesh.position(q) - mesh.position(v)).norm() <= rn ? 1 : 0;
+    REQUIRE(mesh.neighbour_count(v) == n);
+    REQUIRE(mesh.relative_density(v) == Approx(std::min(1.0, n / mesh.max_neighbours())));
+  }
+  const double dm = nbs::mean_relative_density(mesh);
+  CHECK(dm > 0.0);
+  CHECK(dm <= 1.0);
 }

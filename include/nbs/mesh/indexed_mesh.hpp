@@ -18,6 +18,7 @@ struct IndexedMesh {
 
   std::vector<Vec3> vertices;      ///< #V vertex positions.
   std::vector<Triangle> triangles; ///< #F triangles, counter-clockwise seen from outside where known.
+  std::vector<Vec3> normals;       ///< optional per-vertex unit normals: empty, or one per vertex.
 
   [[nodiscard]] bool empty() const { return triangles.empty(); }
 
@@ -52,6 +53,8 @@ struct IndexedMesh {
     detail::require(!triangles.empty(), "mesh is empty: it has ", vertices.size(), " vertices and no triangles");
     for (std::size_t i = 0; i < vertices.size(); ++i)
       detail::require(vertices[i].allFinite(), "mesh vertex ", i, " is not finite: (", vertices[i].transpose(), ")");
+    detail::require(normals.empty() || normals.size() == vertices.size(), "mesh has ", normals.size(),
+                    " normals for ", vertices.size(), " vertices");
     bool any_area = false;
     for (std::size_t t = 0; t < triangles.size(); ++t) {
       for (auto i : triangles[t])

@@ -1,0 +1,105 @@
+#pragma once
+/// \file
+/// Holes (Sec. 4.4) and the estimated mesh coverage (Sec. 4.6, Eqs. 4.35–4.37).
+
+#include <Eigen/Eigenvalues>
+
+#include <vector>
+
+#include "nbs/core/parameters.hpp"
+#include "nbs/mesh/detail/border_graph.hpp"
+
+namespace nbs {
+
+/// A closed loop of border edges E_H (Sec. 4.4).
+struct Hole {
+  std::vector<VertexId> vertices;  ///< loop in walking order (triangles on the left); |E_H| = vertices.size().
+  Vec3 center = Vec3::Zero();      ///< c_h: mean of the loop vertices.
+  Vec3 normal = Vec3::Zero();      ///< n_h: PCA normal of the loop vertices, oriented like their mean vertex normal.
+  Vec3 largest_direction = Vec3::Zero();  ///< d_h = v_max − c_h (not normalised; Eqs. 4.22–4.23 use its length).
+  double area_m2 = 0.0;           ///< A_hole, Eq. (4.37).
+};
+
+/// Eq. (4.37): A_hole = ½ Σ |(v_{i−1} − c_h) × (v_i − c_h)| over the loop. The thesis prints dir(·,·) (unit
+/// vectors), which would make the sum dimensionless; we use the difference vectors so A_hole is an area in m².
+[[nodiscard]] inline double hole_area(const std::vector<Vec3>& loop, const Vec3& c) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i)
+    a += (loop[(i + loop.size() - 1) % loop.size()] - c).cross(loop[i] - c).norm();
+  return 0.5 * a;
+}
+
+/// All closed border loops with h_min ≤ |E_H| ≤ h_max edges (`params.hole_min_edges`, `hole_max_edges`).
+/// Walks may not pass a vertex with several outgoing border edges consistently; such walks that do not close
+/// within h_max edges are skipped. Deterministic.
+template <EdgeMesh M>
+[[nodiscard]] std::vector<Hole> find_holes(const M& mesh, const Parameters& params) {
+  params.validate();
+  const detail::BorderGraph g(mesh);
+  std::vector<char> visited(g.edges.size(), 0);
+  std::vector<Hole> holes;
+  std::vector<std::uint32_t> walk;
+  for (std::uint32_t start = 0; start < g.edges.size(); ++start) {
+    if (visited[start]) continue;
+    walk.assign(1, start);
+    visited[start] = 1;
+    const VertexId origin = g.edges[start].from;
+    bool closed = false;
+    while (static_cast<int>(walk.size()) <= params.hole_max_edges) {
+      const VertexId at = g.edges[walk.back()].to;
+      if (at == origin) {
+        closed = true;
+        break;
+      }
+      const std::int64_t nx = g.pick(g.out, at, [&](std::uint32_t e) { return !visited[e]; });
+      if (nx < 0) break;
+      visited[static_cast<std::uint32_t>(nx)] = 1;
+      walk.push_back(static_cast<std::uint32_t>(nx));
+    }
+    if (!closed || static_cast<int>(walk.size()) < params.hole_min_edges) continue;
+    Hole h;
+    std::vector<Vec3> pts;
+    Vec3 mean_normal = Vec3::Zero();
+    for (std::uint32_t e : walk) {
+      h.vertices.push_back(g.edges[e].from);
+      pts.push_back(mesh.position(g.edges[e].from));
+      mean_normal += mesh.normal(g.edges[e].from);
+    }
+    for (const Vec3& p : pts) h.center += p;
+    h.center /= static_cast<double>(pts.size());
+    Mat3 cov = Mat3::Zero();
+    double far = -1.0;
+    for (const Vec3& p : pts) {
+      cov += (p - h.center) * (p - h.center).transpose();
+      if ((p - h.center).norm() > far) far = (p - h.center).norm(), h.largest_direction = p - h.center;
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(cov);
+    h.normal = es.eigenvectors().col(0);
+    if (h.normal.dot(mean_normal) < 0.0) h.normal = -h.normal;
+    h.area_m2 = hole_area(pts, h.center);
+    holes.push_back(std::move(h));
+  }
+  return holes;
+}
+
+/// A_filled, Eq. (4.36): total triangle area, m² (difference vectors, as for Eq. 4.37).
+template <EdgeMesh M>
+[[nodiscard]] double filled_area(const M& mesh) {
+  double a = 0.0;
+  mesh.for_each_face([&](const MeshFace& f) {
+    a += 0.5 * (mesh.position(f.b) - mesh.position(f.a)).cross(mesh.position(f.c) - mesh.position(f.a)).norm();
+  });
+  return a;
+}
+
+/// Estimated mesh coverage ĉ_m = A_filled / (A_filled + A_empty), Eq. (4.35), A_empty = Σ A_hole over `holes`.
+/// 0 for a mesh without triangles.
+template <EdgeMesh M>
+[[nodiscard]] double estimated_coverage(const M& mesh, const std::vector<Hole>& holes) {
+  const double filled = filled_area(mesh);
+  double empty = 0.0;
+  for (const Hole& h : holes) empty += h.area_m2;
+  return filled > 0.0 ? filled / (filled + empty) : 0.0;
+}
+
+}  // namespace nbs

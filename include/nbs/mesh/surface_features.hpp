@@ -1,0 +1,93 @@
+#pragma once
+/// \file
+/// Surface features per voxel (Sec. 4.5.1): mean relative density d̄_i (Eq. 4.26), mean normal n̄_i (Eq. 4.27) and
+/// border-edge share b_i (Eq. 4.28), computed from the mesh and written into the voxel space's SurfaceFeatureMap.
+/// A vertex belongs to the voxel containing it; an edge to the voxel containing its midpoint. Only vertices that
+/// belong to a triangle count.
+
+#include <unordered_map>
+#include <unordered_set>
+
+#include "nbs/core/parameters.hpp"
+#include "nbs/mesh/density.hpp"
+#include "nbs/space/surface_features.hpp"
+#include "nbs/space/voxel_key.hpp"
+
+namespace nbs {
+
+using SurfaceFeatureTable = std::unordered_map<VoxelKey, SurfaceFeatures, VoxelKeyHash>;
+
+/// Features of the voxels of `grid` that hold a mesh vertex; when `only` is non-null, just those voxels. O(V + E).
+template <DensityMesh M>
+[[nodiscard]] SurfaceFeatureTable compute_surface_features(const M& mesh, const VoxelGrid& grid,
+                                                           const std::unordered_set<VoxelKey, VoxelKeyHash>* only = nullptr) {
+  struct Acc {
+    double density = 0.0;
+    Vec3 normal = Vec3::Zero();
+    std::size_t vertices = 0, edges = 0, border = 0;
+  };
+  std::unordered_map<VoxelKey, Acc, VoxelKeyHash> acc;
+  std::vector<char> used(mesh.vertex_count(), 0);
+  mesh.for_each_face([&](const MeshFace& f) { used[f.a] = used[f.b] = used[f.c] = 1; });
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    if (!used[i]) continue;
+    const auto v = static_cast<VertexId>(i);
+    const auto k = grid.key_of(mesh.position(v));
+    if (!k || (only && !only->count(*k))) continue;
+    Acc& a = acc[*k];
+    a.density += mesh.relative_density(v);
+    a.normal += mesh.normal(v);
+    ++a.vertices;
+  }
+  mesh.for_each_edge([&](const MeshEdge& e) {
+    const auto k = grid.key_of(0.5 * (mesh.position(e.a) + mesh.position(e.b)));
+    if (!k) return;
+    const auto it = acc.find(*k);
+    if (it == acc.end()) return;
+    ++it->second.edges;
+    it->second.border += e.is_border() ? 1 : 0;
+  });
+  SurfaceFeatureTable out;
+  for (const auto& [k, a] : acc) {
+    SurfaceFeatures f;
+    f.mean_density = static_cast<float>(std::clamp(a.density / static_cast<double>(a.vertices), 0.0, 1.0));
+    Vec3 n = a.normal / static_cast<double>(a.vertices);
+    if (n.norm() > 1.0) n.normalize();  // rounding only
+    f.mean_normal = n.cast<float>();
+    if (f.mean_normal.norm() > 1.0f) f.mean_normal /= f.mean_normal.norm() * (1.0f + 1e-6f);
+    f.border_share = a.edges > 0 ? static_cast<float>(static_cast<double>(a.border) / static_cast<double>(a.edges)) : 0.0f;
+    out.emplace(k, f);
+  }
+  return out;
+}
+
+/// A voxel space that stores surface features (include/nbs/space): grid(), probability(key), features().set().
+template <class S>
+concept FeatureSpace = requires(S& s, const VoxelKey& k, const SurfaceFeatures& f) {
+  { s.grid() } -> std::convertible_to<const VoxelGrid&>;
+  { s.probability(k) } -> std::convertible_to<double>;
+  s.features().set(k, f);
+};
+
+/// Incremental update after a scan: recomputes the features of the voxels that hold a vertex of a face in M_cur
+/// and writes those with p ≥ params.occupied_threshold into `space`. Returns the number of voxels written.
+template <FeatureSpace S, DensityMesh M>
+  requires TracksCurrentScan<M>
+std::size_t update_surface_features(S& space, const M& mesh, const Parameters& params) {
+  params.validate();
+  std::unordered_set<VoxelKey, VoxelKeyHash> touched;
+  mesh.for_each_edge([&](const MeshEdge& e) {
+    if (!mesh.in_current_scan(e)) return;
+    for (VertexId v : {e.a, e.b})
+      if (const auto k = space.grid().key_of(mesh.position(v))) touched.insert(*k);
+  });
+  std::size_t written = 0;
+  for (const auto& [k, f] : compute_surface_features(mesh, space.grid(), &touched)) {
+    if (space.probability(k) < params.occupied_threshold) continue;
+    space.features().set(k, f);
+    ++written;
+  }
+  return written;
+}
+
+}  // namespace nbs
