@@ -66,6 +66,7 @@ public:
     collect_local_faces();
     if (!split_containing_face()) fan();
     legalize();
+    close_small_holes();
     return touched_;
   }
 
@@ -237,6 +238,57 @@ private:
     edges_.push_back({p, q, pp, pq});
     edges_.push_back({q, v_, pq, o});
     ++touched_;
+  }
+
+  /// Border edge x→y (its face on the left, none on the right) leaving x, first found; kNoVertex if none.
+  [[nodiscard]] VertexId next_border(VertexId x) const {
+    for (std::uint32_t f : fs_.faces_of(x)) {
+      const auto& t = fs_.face(f);
+      for (int k = 0; k < 3; ++k)
+        if (t[k] == x && fs_.face_with(t[(k + 1) % 3], x) == FaceStore::kNoFace) return t[(k + 1) % 3];
+    }
+    return kNoVertex;
+  }
+  [[nodiscard]] bool fill_ok(VertexId a, VertexId b, VertexId c) const {
+    return normal_agrees(a, b, c) && (pos_[a] - pos_[b]).norm() <= s_.radius_m &&
+           (pos_[b] - pos_[c]).norm() <= s_.radius_m && (pos_[c] - pos_[a]).norm() <= s_.radius_m &&
+           min_angle(a, b, c) >= 0.5 * s_.min_angle_rad;
+  }
+  /// Closes border loops of 3 or 4 edges through v or its neighbours (the triangle / quad the fan left open):
+  /// Bodenmüller's "triangles are recalculated from the changed edges". Fill faces must agree with v's normal,
+  /// so the back side of a lone triangle or quad is never added.
+  void close_small_holes() {
+    std::vector<VertexId>& cand = local_;
+    cand.push_back(v_);
+    for (VertexId x : cand) {
+      for (int guard = 0; guard < 4; ++guard) {
+        const VertexId y = next_border(x);
+        if (y == kNoVertex) break;
+        const VertexId z = next_border(y);
+        if (z == kNoVertex || z == x) break;
+        const VertexId w = next_border(z);
+        bool filled = false;
+        if (w == x) {  // loop x→y→z→x
+          if (fill_ok(x, z, y)) {
+            fs_.add(x, z, y, scan_);
+            filled = true;
+          }
+        } else if (w != kNoVertex && w != y && next_border(w) == x && !fs_.has_edge(x, z) && !fs_.has_edge(y, w)) {
+          const bool xz = (pos_[x] - pos_[z]).squaredNorm() <= (pos_[y] - pos_[w]).squaredNorm();
+          if (xz && fill_ok(x, w, z) && fill_ok(x, z, y)) {
+            fs_.add(x, w, z, scan_);
+            fs_.add(x, z, y, scan_);
+            filled = true;
+          } else if (!xz && fill_ok(y, x, w) && fill_ok(y, w, z)) {
+            fs_.add(y, x, w, scan_);
+            fs_.add(y, w, z, scan_);
+            filled = true;
+          }
+        }
+        if (!filled) break;
+        ++touched_;
+      }
+    }
   }
 
   /// Flips edges opposite v while the opposite vertex lies inside the circumcircle (Lawson), bounded by max_flips.
