@@ -1,0 +1,82 @@
+#pragma once
+/// \file
+/// Segment walks over a HashedBlockBackend that look a block up only when the walk enters a new block.
+
+#include <type_traits>
+
+#include "nbs/core/types.hpp"
+#include "nbs/space/detail/segment_walker.hpp"
+#include "nbs/space/hashed_block_backend.hpp"
+
+namespace nbs::detail {
+
+template <class B>
+inline constexpr bool is_hashed_block_backend_v = false;
+template <class S>
+inline constexpr bool is_hashed_block_backend_v<HashedBlockBackend<S>> = true;
+
+/// Writing walk from a to b (voxel units, valid keys): visit(Block&, index, key, is_end_voxel) for each voxel,
+/// allocating blocks as needed; the end voxel is skipped unless include_end.
+template <class S, class Visit>
+void walk_blocks(HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, bool include_end, Visit&& visit) {
+  using BE = HashedBlockBackend<S>;
+  SegmentWalker w(a, b);
+  VoxelKey k = w.key();
+  auto* blk = &be.block(BE::block_id(k));
+  for (;;) {
+    const bool last = w.remaining() == 0;
+    if (last && !include_end) return;
+    visit(*blk, BE::local_index(k), k, last);
+    if (last) return;
+    const int axis = w.step();
+    k = w.key();
+    if ((k[axis] & (BE::kEdge - 1)) == (w.sign(axis) > 0 ? 0 : BE::kEdge - 1)) blk = &be.block(BE::block_id(k));
+  }
+}
+
+/// Read-only walk from a to b (voxel units, valid keys): visit(const Block* or nullptr, index, key) for each
+/// voxel, end voxel included; stops early when visit returns false. Returns the number of voxels visited.
+template <class S, class Visit>
+std::uint32_t walk_blocks_const(const HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, Visit&& visit) {
+  using BE = HashedBlockBackend<S>;
+  SegmentWalker w(a, b);
+  VoxelKey k = w.key();
+  const typename BE::Block* blk = be.find_block(BE::block_id(k));
+  std::uint32_t n = 0;
+  for (;;) {
+    ++n;
+    if (!visit(blk, BE::local_index(k), k)) return n;
+    if (w.remaining() == 0) return n;
+    const int axis = w.step();
+    k = w.key();
+    if ((k[axis] & (BE::kEdge - 1)) == (w.sign(axis) > 0 ? 0 : BE::kEdge - 1)) blk = be.find_block(BE::block_id(k));
+  }
+}
+
+/// Clips the segment a → b to the closed box (Liang–Barsky). Returns false if they do not meet; otherwise sets
+/// [t0, t1] ⊆ [0, 1].
+inline bool clip_segment(const Vec3& a, const Vec3& b, const Aabb& box, double& t0, double& t1) {
+  t0 = 0.0;
+  t1 = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double d = b[i] - a[i];
+    if (d == 0.0) {
+      if (a[i] < box.min[i] || a[i] > box.max[i]) return false;
+      continue;
+    }
+    double ta = (box.min[i] - a[i]) / d;
+    double tb = (box.max[i] - a[i]) / d;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+/// a + t·(b − a), clamped into the box (guards against round-off past the faces).
+inline Vec3 point_in_box(const Vec3& a, const Vec3& b, double t, const Aabb& box) {
+  return (a + t * (b - a)).cwiseMax(box.min).cwiseMin(box.max);
+}
+
+}  // namespace nbs::detail

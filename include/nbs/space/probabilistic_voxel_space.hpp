@@ -1,0 +1,369 @@
+#pragma once
+/// \file
+/// ProbabilisticVoxelSpace (PVS, Sec. 3.3.2): a voxel backend updated from scans by an update model, restricted to
+/// the bounding box of the unknown area (Sec. 4.1), with beam independence and planning ray casts.
+
+#include <algorithm>
+#include <cstdint>
+#include <exception>
+#include <span>
+#include <thread>
+#include <type_traits>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "nbs/core/error.hpp"
+#include "nbs/core/scan.hpp"
+#include "nbs/space/backend.hpp"
+#include "nbs/space/detail/block_walk.hpp"
+#include "nbs/space/hashed_block_backend.hpp"
+#include "nbs/space/surface_features.hpp"
+#include "nbs/space/thesis_model.hpp"
+#include "nbs/space/update_model.hpp"
+
+namespace nbs {
+
+/// What `integrate` did with a scan. Counts add up: points = integrated + rejected_*.
+struct IntegrationStats {
+  std::uint64_t points = 0;                   ///< points in the scan(s)
+  std::uint64_t integrated = 0;               ///< beams used
+  std::uint64_t rejected_zero_length = 0;     ///< end point == sensor origin
+  std::uint64_t rejected_outside_bounds = 0;  ///< end point outside the bounding box of the unknown area (clipped)
+  std::uint64_t rejected_model = 0;           ///< the model refused the beam (e.g. σ(d) not finite and > 0)
+  std::uint64_t voxel_updates = 0;            ///< voxel states changed
+  std::uint64_t voxels_same_scan = 0;         ///< skipped: voxel already updated in this scan
+  std::uint64_t voxels_similar_beam = 0;      ///< skipped: a similar beam was integrated there before (Sec. 3.3.2)
+
+  IntegrationStats& operator+=(const IntegrationStats& o) {
+    points += o.points;
+    integrated += o.integrated;
+    rejected_zero_length += o.rejected_zero_length;
+    rejected_outside_bounds += o.rejected_outside_bounds;
+    rejected_model += o.rejected_model;
+    voxel_updates += o.voxel_updates;
+    voxels_same_scan += o.voxels_same_scan;
+    voxels_similar_beam += o.voxels_similar_beam;
+    return *this;
+  }
+};
+
+/// A planning ray from `origin` to `end`, world metres.
+struct Ray {
+  Vec3 origin = Vec3::Zero();
+  Vec3 end = Vec3::Zero();
+};
+
+/// Outcome of one planning ray cast.
+struct RaycastResult {
+  bool hit = false;           ///< stopped at an occupied voxel
+  VoxelKey hit_key{};         ///< that voxel (valid if hit)
+  std::uint32_t voxels = 0;   ///< voxels visited (the callback was called this often)
+};
+
+/// The probabilistic voxel space. `Backend` stores the states (native hashed blocks by default, or any
+/// VoxelBackend such as `octomap::OcTree` via nbs/octomap), `Model` turns beams into state updates.
+/// Thread-safety: const members (queries, ray casts) may run concurrently; `integrate` and setters need exclusive
+/// access.
+template <class Backend = HashedBlockBackend<ThesisState>, class Model = ThesisModel>
+  requires VoxelBackend<Backend> && UpdateModel<Model> &&
+           std::same_as<backend_state_t<Backend>, typename Model::State>
+class ProbabilisticVoxelSpace {
+public:
+  using State = typename Model::State;
+
+  /// Space of voxel edge `resolution_m` restricted to `unknown_area` (Sec. 4.1; empty box = everything the backend
+  /// can store). Throws InvalidArgument if resolution_m ≤ 0 / not finite or unknown_area is not finite.
+  explicit ProbabilisticVoxelSpace(double resolution_m, const Aabb& unknown_area = {}, Model model = Model{})
+      : grid_(resolution_m), backend_(backend_traits<Backend>::make(resolution_m)), model_(std::move(model)) {
+    const KeyBox kr = nbs::key_range(backend_);
+    Aabb range;
+    const double eps = 1e-6 * resolution_m;
+    for (int a = 0; a < 3; ++a) {
+      range.min[a] = kr.min[a] * resolution_m;
+      range.max[a] = (kr.max[a] + 1.0) * resolution_m - eps;
+    }
+    if (unknown_area.empty()) {
+      bounds_ = range;
+    } else {
+      detail::require(unknown_area.min.allFinite() && unknown_area.max.allFinite(),
+                      "unknown_area must be finite, got min (", unknown_area.min.transpose(), ") max (",
+                      unknown_area.max.transpose(), ")");
+      bounds_.min = unknown_area.min.cwiseMax(range.min);
+      bounds_.max = unknown_area.max.cwiseMin(range.max);
+      detail::require(!bounds_.empty(), "unknown_area does not overlap the backend's key range");
+    }
+    const KeyBox kb = grid_.key_box(bounds_);
+    for (int a = 0; a < 3; ++a) {
+      voxel_bounds_.min[a] = kb.min[a] * resolution_m + eps;
+      voxel_bounds_.max[a] = (kb.max[a] + 1.0) * resolution_m - eps;
+    }
+  }
+
+  // ---- Update ------------------------------------------------------------------------------------------------
+  /// Integrates one scan: beam i runs from scan.origin(i) to scan.points[i]. Throws InvalidArgument (space
+  /// unchanged) if the scan violates its invariants (Scan::validate). Beams of zero length or with an end point
+  /// outside the unknown area, and beams the model refuses, are counted and skipped. Each voxel is updated at most
+  /// once per scan; the voxels around the end points (the model's band) take precedence over pass-through voxels,
+  /// as in OctoMap's insertPointCloud. Returns what happened to this scan (also added to totals()).
+  IntegrationStats integrate(const Scan& scan) {
+    scan.validate();
+    IntegrationStats st;
+    st.points = scan.size();
+    beams_.clear();
+    beams_.reserve(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const Vec3 o = scan.origin(i);
+      const Vec3& p = scan.points[i];
+      const double r = (p - o).norm();
+      if (!(r > 0.0)) {
+        ++st.rejected_zero_length;
+        continue;
+      }
+      if (!bounds_.contains(p)) {
+        ++st.rejected_outside_bounds;
+        continue;
+      }
+      const Vec3 dir = (p - o) / r;
+      auto b = model_.beam(r, dir);
+      if (!b) {
+        ++st.rejected_model;
+        continue;
+      }
+      beams_.push_back({o, p, dir, r, *b});
+    }
+    st.integrated = beams_.size();
+    begin_scan();
+    for (const BeamRecord& b : beams_) band_pass(b, st);
+    for (const BeamRecord& b : beams_) free_pass(b, st);
+    totals_ += st;
+    return st;
+  }
+
+  // ---- Queries -----------------------------------------------------------------------------------------------
+  [[nodiscard]] const VoxelGrid& grid() const { return grid_; }
+  [[nodiscard]] double resolution_m() const { return grid_.resolution_m(); }
+  /// The bounding box of the unknown area actually used (clipped to the backend's key range), world metres.
+  /// End points must lie inside it.
+  [[nodiscard]] const Aabb& bounds() const { return bounds_; }
+  /// The union of the voxels overlapping bounds() (shrunk by 10⁻⁶ l_v): beams and rays are clipped to it, so
+  /// every voxel that overlaps the unknown area can be updated (as OctoMap's bounding-box limit does).
+  [[nodiscard]] const Aabb& voxel_bounds() const { return voxel_bounds_; }
+  /// Keys of the voxels overlapping bounds().
+  [[nodiscard]] KeyBox bounds_keys() const { return grid_.key_box(bounds_); }
+  [[nodiscard]] const Backend& backend() const { return backend_; }
+  [[nodiscard]] const Model& model() const { return model_; }
+  /// Sum of the statistics of every integrated scan.
+  [[nodiscard]] const IntegrationStats& totals() const { return totals_; }
+
+  /// State of voxel k (State{} = unknown if never updated).
+  [[nodiscard]] State state(const VoxelKey& k) const { return voxel_state(backend_, k); }
+  /// Occupancy probability p of voxel k (0.5 if unknown), Eq. 3.8 for the thesis model.
+  [[nodiscard]] double probability(const VoxelKey& k) const { return model_.probability(state(k)); }
+  /// p of the voxel containing world point x; 0.5 outside the key range.
+  [[nodiscard]] double probability(const Vec3& x) const {
+    const auto k = grid_.key_of(x);
+    return k ? probability(*k) : 0.5;
+  }
+  [[nodiscard]] bool occupied(const VoxelKey& k) const { return model_.occupied(state(k)); }
+  [[nodiscard]] bool observed(const VoxelKey& k) const { return is_observed(backend_, k); }
+  /// Calls f(key, state) for every observed voxel.
+  template <class F>
+  void for_each(F&& f) const {
+    for_each_voxel(backend_, static_cast<F&&>(f));
+  }
+  /// Bytes held by the voxel states (backend) and the surface features.
+  [[nodiscard]] std::size_t memory_bytes() const { return nbs::memory_bytes(backend_) + features_.memory_bytes(); }
+
+  // ---- Surface features (Sec. 4.5.1) --------------------------------------------------------------------------
+  [[nodiscard]] SurfaceFeatureMap& features() { return features_; }
+  [[nodiscard]] const SurfaceFeatureMap& features() const { return features_; }
+
+  // ---- Planning ray casts ------------------------------------------------------------------------------------
+  /// Visits the voxels on `ray` inside voxel_bounds(), in order from the origin, calling visit(key, state) for each
+  /// (unknown voxels included, as State{}); stops after the first occupied voxel (hit) or when visit returns
+  /// false. A ray that misses voxel_bounds() visits nothing. Throws InvalidArgument if the ray is not finite.
+  template <class Visit>
+  RaycastResult cast_ray(const Ray& ray, Visit&& visit) const {
+    check_ray(ray, 0);
+    return cast_ray_unchecked(ray, visit);
+  }
+  /// cast_ray for every ray, on `threads` std::threads (0 = hardware concurrency). Rays are split into contiguous
+  /// chunks; visit(ray_index, key, state) is called concurrently for different rays, in order within one ray, so
+  /// results written per ray are identical for any thread count. All rays are checked before any is cast.
+  template <class Visit>
+  std::vector<RaycastResult> cast_rays(std::span<const Ray> rays, unsigned threads, Visit&& visit) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) check_ray(rays[i], i);
+    std::vector<RaycastResult> out(rays.size());
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(rays.size(), 1)));
+    const auto run = [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        auto per_ray = [&](const VoxelKey& k, const State& s) { return visit(i, k, s); };
+        out[i] = cast_ray_unchecked(rays[i], per_ray);
+      }
+    };
+    if (threads <= 1) {
+      run(0, rays.size());
+      return out;
+    }
+    std::vector<std::thread> pool;
+    std::vector<std::exception_ptr> errors(threads);
+    for (unsigned t = 0; t < threads; ++t) {
+      const std::size_t lo = rays.size() * t / threads, hi = rays.size() * (t + 1) / threads;
+      pool.emplace_back([&, lo, hi, t] {
+        try {
+          run(lo, hi);
+        } catch (...) {
+          errors[t] = std::current_exception();
+        }
+      });
+    }
+    for (auto& th : pool) th.join();
+    for (auto& e : errors)
+      if (e) std::rethrow_exception(e);
+    return out;
+  }
+
+private:
+  struct BeamRecord {
+    Vec3 origin;
+    Vec3 end;
+    Vec3 dir;
+    double range_m;
+    typename Model::Beam beam;
+  };
+  static constexpr bool kNative = detail::is_hashed_block_backend_v<Backend>;
+
+  void begin_scan() {
+    if constexpr (kNative) {
+      epoch_ = backend_.next_epoch();
+    } else {
+      touched_.clear();
+    }
+  }
+
+  // Calls apply(State&) for voxel k unless it was already touched in this scan; writes back if updated.
+  template <class Apply>
+  void visit_generic(const VoxelKey& k, IntegrationStats& st, Apply&& apply) {
+    if (!touched_.insert(k.pack()).second) {
+      ++st.voxels_same_scan;
+      return;
+    }
+    State s = voxel_state(backend_, k);
+    count(apply(s), st, [&] { set_voxel_state(backend_, k, s); });
+  }
+  template <class OnUpdate>
+  static void count(VoxelUpdate u, IntegrationStats& st, OnUpdate&& on_update) {
+    if (u == VoxelUpdate::updated) {
+      ++st.voxel_updates;
+      on_update();
+    } else if (u == VoxelUpdate::similar_beam) {
+      ++st.voxels_similar_beam;
+    }
+  }
+
+  // Walks a → b (world) with visit(State&, key, is_end) → VoxelUpdate, once per voxel per scan.
+  template <class Apply>
+  void walk(const Vec3& a, const Vec3& b, bool include_end, IntegrationStats& st, Apply&& apply) {
+    const double inv = grid_.inverse_resolution();
+    if constexpr (kNative) {
+      detail::walk_blocks(backend_, a * inv, b * inv, include_end,
+                          [&](typename Backend::Block& blk, int i, const VoxelKey& k, bool is_end) {
+                            if (blk.stamp[i] == epoch_) {
+                              ++st.voxels_same_scan;
+                              return;
+                            }
+                            blk.stamp[i] = epoch_;
+                            count(apply(blk.state[i], k, is_end), st, [&] { backend_.note_observed(blk, i); });
+                          });
+    } else {
+      detail::SegmentWalker w(a * inv, b * inv);
+      for (;;) {
+        const bool last = w.remaining() == 0;
+        if (last && !include_end) return;
+        const VoxelKey k = w.key();
+        visit_generic(k, st, [&](State& s) { return apply(s, k, last); });
+        if (last) return;
+        w.step();
+      }
+    }
+  }
+
+  void band_pass(const BeamRecord& b, IntegrationStats& st) {
+    const double w = model_.band_half_width_m(b.beam);
+    const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
+    double t0, t1;
+    if (!detail::clip_segment(a, e, voxel_bounds_, t0, t1)) return;  // cannot happen: b.end is inside
+    const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds_), to = detail::point_in_box(a, e, t1, voxel_bounds_);
+    const VoxelKey end_key = *grid_.key_of(b.end);
+    walk(from, to, true, st, [&](State& s, const VoxelKey& k, bool) {
+      const bool is_end = k == end_key;
+      const double offset = is_end ? 0.0 : (grid_.center(k) - b.origin).dot(b.dir) - b.range_m;
+      return model_.update_band(s, b.beam, offset, is_end);
+    });
+  }
+
+  void free_pass(const BeamRecord& b, IntegrationStats& st) {
+    double t0, t1;
+    if (!detail::clip_segment(b.origin, b.end, voxel_bounds_, t0, t1)) return;
+    const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds_);
+    walk(from, b.end, false, st, [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
+  }
+
+  void check_ray(const Ray& r, std::size_t i) const {
+    detail::require(r.origin.allFinite() && r.end.allFinite(), "ray ", i, " is not finite: origin (",
+                    r.origin.transpose(), ") end (", r.end.transpose(), ")");
+  }
+
+  template <class Visit>
+  RaycastResult cast_ray_unchecked(const Ray& ray, Visit& visit) const {
+    RaycastResult res;
+    double t0, t1;
+    if (!detail::clip_segment(ray.origin, ray.end, voxel_bounds_, t0, t1)) return res;
+    const double inv = grid_.inverse_resolution();
+    const Vec3 a = detail::point_in_box(ray.origin, ray.end, t0, voxel_bounds_) * inv;
+    const Vec3 b = detail::point_in_box(ray.origin, ray.end, t1, voxel_bounds_) * inv;
+    const auto on_voxel = [&](const VoxelKey& k, const State& s) {
+      ++res.voxels;
+      if constexpr (std::is_convertible_v<std::invoke_result_t<Visit&, const VoxelKey&, const State&>, bool>) {
+        if (!visit(k, s)) return false;
+      } else {
+        visit(k, s);
+      }
+      if (model_.occupied(s)) {
+        res.hit = true;
+        res.hit_key = k;
+        return false;
+      }
+      return true;
+    };
+    if constexpr (kNative) {
+      static const State unknown{};
+      detail::walk_blocks_const(backend_, a, b, [&](const typename Backend::Block* blk, int i, const VoxelKey& k) {
+        return on_voxel(k, blk ? blk->state[i] : unknown);
+      });
+    } else {
+      detail::SegmentWalker w(a, b);
+      for (;;) {
+        if (!on_voxel(w.key(), voxel_state(backend_, w.key()))) break;
+        if (w.remaining() == 0) break;
+        w.step();
+      }
+    }
+    return res;
+  }
+
+  VoxelGrid grid_;
+  Backend backend_;
+  Model model_;
+  Aabb bounds_;
+  Aabb voxel_bounds_;
+  SurfaceFeatureMap features_;
+  IntegrationStats totals_;
+  std::vector<BeamRecord> beams_;
+  std::uint8_t epoch_ = 0;
+  std::unordered_set<std::uint64_t> touched_;
+};
+
+}  // namespace nbs

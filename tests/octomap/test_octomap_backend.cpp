@@ -1,0 +1,100 @@
+// The OctoMap backend: conformance suite, identical results to the native backend, OctoMap itself as oracle.
+#include <catch2/catch.hpp>
+
+#include "nbs/octomap/insert_scan.hpp"
+#include "nbs/octomap/obstacle_model.hpp"
+#include "nbs/octomap/octree_backend.hpp"
+#include "nbs/space/log_odds_model.hpp"
+#include "space/support/backend_conformance.hpp"
+#include "space/support/synthetic_scan.hpp"
+
+namespace {
+using nbs::Vec3;
+using nbs::VoxelKey;
+using Native = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
+using OnOctree = nbs::ProbabilisticVoxelSpace<::octomap::OcTree, nbs::LogOddsModel>;
+// Float-representable box so that OctoMap's float BBX test and ours agree.
+const nbs::Aabb kBox{nbs::test::to_float(Vec3(-0.1, -0.1, 0.0)), nbs::test::to_float(Vec3(0.1, 0.1, 0.2))};
+const nbs::test::SphereLspSetup kSetup{.profiles = 40, .rays_per_profile = 120, .noise_sigma_m = 0.0003};
+
+enum class Cls { unknown, free, occupied };
+Cls classify(const nbs::LogOddsModel& m, bool observed, const nbs::LogOddsState& s) {
+  return !observed ? Cls::unknown : (m.occupied(s) ? Cls::occupied : Cls::free);
+}
+}  // namespace
+
+TEST_CASE("octomap::OcTree passes the backend conformance suite", "[octomap][backend]") {
+  nbs::test::check_backend_conformance<::octomap::OcTree>(
+      0.005, [](int i) { return nbs::LogOddsState{0.001f * static_cast<float>(i) - 3.0f}; });
+}
+
+TEST_CASE("PVS on OcTree and on native blocks produce identical states", "[octomap][pvs]") {
+  Native native(0.004, kBox);
+  OnOctree tree(0.004, kBox);
+  for (int i = 0; i < 5; ++i) {
+    const auto scan = nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 5, 0.3), 100 + i);
+    const auto a = native.integrate(scan), b = tree.integrate(scan);
+    REQUIRE(a.voxel_updates == b.voxel_updates);
+    REQUIRE(a.voxels_same_scan == b.voxels_same_scan);
+  }
+  REQUIRE(nbs::observed_count(native.backend()) == nbs::observed_count(tree.backend()));
+  native.for_each([&](const VoxelKey& k, const nbs::LogOddsState& s) { REQUIRE(tree.state(k) == s); });
+}
+
+TEST_CASE("native log-odds space classifies >= 99.9 % of voxels like OctoMap's insertion", "[octomap][oracle]") {
+  Native native(0.004, kBox);
+  ::octomap::OcTree ref(0.004);
+  ::octomap::point3d bmin(static_cast<float>(kBox.min.x()), static_cast<float>(kBox.min.y()),
+                          static_cast<float>(kBox.min.z()));
+  ::octomap::point3d bmax(static_cast<float>(kBox.max.x()), static_cast<float>(kBox.max.y()),
+                          static_cast<float>(kBox.max.z()));
+  ref.setBBXMin(bmin);
+  ref.setBBXMax(bmax);
+  ref.useBBXLimit(true);
+  for (int i = 0; i < 6; ++i) {
+    const auto scan = nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 200 + i);
+    (void)native.integrate(scan);
+    nbs::octomap::insert_scan(ref, scan);
+  }
+  std::size_t total = 0, same = 0, occupied = 0;
+  const auto compare = [&](const VoxelKey& k) {
+    const auto o = nbs::octomap::to_octree_key(k);
+    const auto* n = ref.search(*o);
+    const Cls a = classify(native.model(), native.observed(k), native.state(k));
+    const Cls b = classify(native.model(), n != nullptr, n ? nbs::LogOddsState{n->getLogOdds()} : nbs::LogOddsState{});
+    ++total;
+    same += a == b ? 1 : 0;
+    occupied += a == Cls::occupied ? 1 : 0;
+  };
+  native.for_each([&](const VoxelKey& k, const nbs::LogOddsState&) { compare(k); });
+  std::size_t only_ref = 0;
+  nbs::for_each_voxel(ref, [&](const VoxelKey& k, const nbs::LogOddsState&) {
+    if (!native.observed(k)) ++only_ref;
+  });
+  total += only_ref;
+  INFO("voxels " << total << ", identical " << same << ", only in OctoMap " << only_ref);
+  REQUIRE(total > 20000);
+  REQUIRE(occupied > 500);
+  REQUIRE(static_cast<double>(same) / static_cast<double>(total) >= 0.999);
+}
+
+TEST_CASE("obstacle model: occupied and unknown voxels become occupied leaves", "[octomap][obstacle]") {
+  nbs::ProbabilisticVoxelSpace<> space(0.01, kBox);
+  for (int i = 0; i < 3; ++i)
+    (void)space.integrate(nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 3, 0.3), i));
+  const auto tree = nbs::octomap::to_obstacle_octree(space, 0.45);  // free after one pass: p = 0.4
+  std::size_t obstacles = 0, free = 0;
+  const nbs::KeyBox kb = space.bounds_keys();
+  for (int z = kb.min.z; z <= kb.max.z; ++z)
+    for (int y = kb.min.y; y <= kb.max.y; ++y)
+      for (int x = kb.min.x; x <= kb.max.x; ++x) {
+        const VoxelKey k{x, y, z};
+        const auto* n = tree->search(*nbs::octomap::to_octree_key(k));
+        REQUIRE(n != nullptr);
+        REQUIRE(tree->isNodeOccupied(n) == (space.probability(k) > 0.45));
+        (tree->isNodeOccupied(n) ? obstacles : free) += 1;
+      }
+  REQUIRE(free > 100);
+  REQUIRE(obstacles > 100);
+  REQUIRE_THROWS_AS(nbs::octomap::to_obstacle_octree(space, 1.5), nbs::InvalidArgument);
+}

@@ -1,0 +1,132 @@
+// Integer 3D-DDA against brute-force enumeration of the voxels a segment crosses (exact rational arithmetic).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "nbs/space/detail/segment_walker.hpp"
+#include "nbs/space/ray_traversal.hpp"
+
+namespace {
+
+using nbs::Vec3;
+using nbs::VoxelKey;
+using nbs::detail::SegmentWalker;
+using i128 = __int128;
+
+struct Frac {  // n / d with d > 0
+  i128 n, d;
+};
+bool lt(Frac a, Frac b) { return a.n * b.d < b.n * a.d; }
+bool le(Frac a, Frac b) { return a.n * b.d <= b.n * a.d; }
+
+// Does the quantised segment S→E meet the voxel k? closed: the closed box; otherwise the open box.
+bool meets(const std::int64_t S[3], const std::int64_t E[3], const VoxelKey& k, bool closed) {
+  Frac enter{0, 1}, exit{1, 1};
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t lo = std::int64_t{k[a]} * SegmentWalker::kOne, hi = lo + SegmentWalker::kOne;
+    const std::int64_t D = E[a] - S[a];
+    if (D == 0) {
+      const bool in = closed ? (S[a] >= lo && S[a] <= hi) : (S[a] > lo && S[a] < hi);
+      if (!in) return false;
+      continue;
+    }
+    Frac t0{lo - S[a], D}, t1{hi - S[a], D};
+    if (D < 0) {
+      t0 = {S[a] - lo, -D};
+      t1 = {S[a] - hi, -D};
+      std::swap(t0, t1);
+    }
+    if (lt(enter, t0)) enter = t0;
+    if (lt(t1, exit)) exit = t1;
+  }
+  return closed ? le(enter, exit) : lt(enter, exit);
+}
+
+std::vector<VoxelKey> walk(const Vec3& a, const Vec3& b) {
+  SegmentWalker w(a, b);
+  std::vector<VoxelKey> out{w.key()};
+  while (w.remaining() > 0) {
+    w.step();
+    out.push_back(w.key());
+  }
+  return out;
+}
+
+void check_segment(const Vec3& a, const Vec3& b, bool brute_force) {
+  std::int64_t S[3], E[3];
+  for (int i = 0; i < 3; ++i) {
+    S[i] = SegmentWalker::to_fixed(a[i]);
+    E[i] = SegmentWalker::to_fixed(b[i]);
+  }
+  const auto keys = walk(a, b);
+  INFO("segment " << a.transpose() << " -> " << b.transpose());
+  const VoxelKey ks{SegmentWalker::key_of_fixed(S[0]), SegmentWalker::key_of_fixed(S[1]),
+                    SegmentWalker::key_of_fixed(S[2])};
+  const VoxelKey ke{SegmentWalker::key_of_fixed(E[0]), SegmentWalker::key_of_fixed(E[1]),
+                    SegmentWalker::key_of_fixed(E[2])};
+  REQUIRE(keys.front() == ks);
+  REQUIRE(keys.back() == ke);
+  REQUIRE(keys.size() == 1u + std::abs(ke.x - ks.x) + std::abs(ke.y - ks.y) + std::abs(ke.z - ks.z));
+  for (std::size_t i = 1; i < keys.size(); ++i) {  // face neighbours
+    const int d = std::abs(keys[i].x - keys[i - 1].x) + std::abs(keys[i].y - keys[i - 1].y) +
+                  std::abs(keys[i].z - keys[i - 1].z);
+    REQUIRE(d == 1);
+  }
+  for (const auto& k : keys) REQUIRE(meets(S, E, k, true));  // DDA ⊆ closed
+  if (!brute_force) return;
+  std::set<std::tuple<int, int, int>> dda;
+  for (const auto& k : keys) dda.insert({k.x, k.y, k.z});
+  REQUIRE(dda.size() == keys.size());
+  for (int x = std::min(ks.x, ke.x); x <= std::max(ks.x, ke.x); ++x)
+    for (int y = std::min(ks.y, ke.y); y <= std::max(ks.y, ke.y); ++y)
+      for (int z = std::min(ks.z, ke.z); z <= std::max(ks.z, ke.z); ++z)
+        if (meets(S, E, VoxelKey{x, y, z}, false)) REQUIRE(dda.count({x, y, z}) == 1);  // open ⊆ DDA
+}
+
+}  // namespace
+
+TEST_CASE("DDA visits exactly the voxels a random segment crosses", "[space][dda]") {
+  std::mt19937_64 rng(20240611);
+  std::uniform_real_distribution<double> u(-20.0, 20.0);
+  for (int i = 0; i < 3000; ++i) check_segment(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), true);
+}
+
+TEST_CASE("DDA on degenerate segments: axis-parallel, through edges and corners, single voxel", "[space][dda]") {
+  check_segment(Vec3(0.5, 0.5, 0.5), Vec3(7.5, 0.5, 0.5), true);
+  check_segment(Vec3(0.5, 0.5, 0.5), Vec3(-7.5, 0.5, 0.5), true);
+  check_segment(Vec3(0.0, 0.0, 0.0), Vec3(5.0, 5.0, 5.0), true);    // through voxel corners
+  check_segment(Vec3(-3.0, 2.0, 0.5), Vec3(3.0, -4.0, 0.5), true);  // through voxel edges
+  check_segment(Vec3(1.0, 1.0, 1.0), Vec3(1.0, 1.0, 1.0), true);
+  check_segment(Vec3(1.2, 1.3, 1.4), Vec3(1.7, 1.6, 1.5), true);
+  check_segment(Vec3(2.0, 0.5, 0.5), Vec3(-2.0, 0.5, 0.5), true);   // starts on a boundary, moving down
+}
+
+TEST_CASE("DDA over the whole key range does not overflow", "[space][dda]") {
+  std::mt19937_64 rng(99);
+  const double lim = 1048575.0;
+  std::uniform_real_distribution<double> u(-lim, lim);
+  for (int i = 0; i < 3; ++i) check_segment(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), false);
+  check_segment(Vec3(-lim - 0.5, -lim - 0.5, -lim - 0.5), Vec3(lim, lim, lim), false);
+}
+
+TEST_CASE("traverse_segment works in world units and rejects bad input", "[space][dda]") {
+  const nbs::VoxelGrid g(0.01);
+  std::vector<VoxelKey> keys;
+  const auto n = nbs::traverse_segment(g, Vec3(0.005, 0.005, 0.005), Vec3(0.035, 0.005, 0.005),
+                                       [&](const VoxelKey& k) { keys.push_back(k); });
+  REQUIRE(n == 4);
+  REQUIRE(keys == std::vector<VoxelKey>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+  const auto m = nbs::traverse_segment(g, Vec3(0.005, 0.005, 0.005), Vec3(0.035, 0.005, 0.005),
+                                       [&](const VoxelKey& k) { return k.x < 1; });
+  REQUIRE(m == 2);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE_THROWS_AS(nbs::traverse_segment(g, Vec3(nan, 0, 0), Vec3(0, 0, 0), [](const VoxelKey&) {}),
+                    nbs::InvalidArgument);
+  REQUIRE_THROWS_AS(nbs::traverse_segment(g, Vec3(0, 0, 0), Vec3(0, 0, 1e9), [](const VoxelKey&) {}),
+                    nbs::InvalidArgument);
+}

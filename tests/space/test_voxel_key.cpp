@@ -1,0 +1,39 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "nbs/space/voxel_key.hpp"
+
+using nbs::VoxelKey;
+
+TEST_CASE("VoxelKey packs 21 bits per axis losslessly", "[space][key]") {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<std::int32_t> d(VoxelKey::kMinIndex, VoxelKey::kMaxIndex);
+  for (int i = 0; i < 10000; ++i) {
+    const VoxelKey k{d(rng), d(rng), d(rng)};
+    REQUIRE(VoxelKey::unpack(k.pack()) == k);
+  }
+  const VoxelKey lo{VoxelKey::kMinIndex, VoxelKey::kMinIndex, VoxelKey::kMinIndex};
+  const VoxelKey hi{VoxelKey::kMaxIndex, VoxelKey::kMaxIndex, VoxelKey::kMaxIndex};
+  REQUIRE(VoxelKey::unpack(lo.pack()) == lo);
+  REQUIRE(VoxelKey::unpack(hi.pack()) == hi);
+  REQUIRE(lo.pack() != hi.pack());
+  REQUIRE_FALSE(VoxelKey{VoxelKey::kMaxIndex + 1, 0, 0}.valid());
+}
+
+TEST_CASE("VoxelGrid maps coordinates with floor(x / l_v)", "[space][key]") {
+  const nbs::VoxelGrid g(0.005);
+  REQUIRE(*g.key_of(nbs::Vec3(0.0, 0.0049, -0.0001)) == VoxelKey{0, 0, -1});
+  REQUIRE(*g.key_of(nbs::Vec3(0.0051, -0.0051, 0.0151)) == VoxelKey{1, -2, 3});
+  REQUIRE((g.center(VoxelKey{1, -2, 3}) - nbs::Vec3(0.0075, -0.0075, 0.0175)).norm() < 1e-15);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE_FALSE(g.key_of(nbs::Vec3(nan, 0, 0)).has_value());
+  REQUIRE_FALSE(g.key_of(nbs::Vec3(0, std::numeric_limits<double>::infinity(), 0)).has_value());
+  REQUIRE_FALSE(g.key_of(nbs::Vec3(0, 0, 1e5)).has_value());  // beyond 2^20 · 5 mm
+  REQUIRE(g.key_of(nbs::Vec3(0, 0, 5000.0)).has_value());
+  REQUIRE_THROWS_AS(nbs::VoxelGrid(0.0), nbs::InvalidArgument);
+  REQUIRE_THROWS_AS(nbs::VoxelGrid(-1.0), nbs::InvalidArgument);
+  REQUIRE_THROWS_AS(nbs::VoxelGrid(nan), nbs::InvalidArgument);
+}
