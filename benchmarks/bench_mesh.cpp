@@ -1,0 +1,119 @@
+// Streaming mesh benchmarks (issue 4). Headlines:
+//  mesh.points_per_s           incoming stripe-profiler points per second, 1 core, Tab. 4.3 radii, a 160 mm sphere
+//                              scanned by a dense synthetic stream (640 rays per profile, 0.3 mm profile step)
+//  mesh.cost_growth_10k_to_1m  time per incoming point with a 1M-vertex model ÷ with a 10k-vertex model (plane)
+//  mesh.bytes_per_vertex       StreamingMesh::memory_bytes() / vertex_count() of the 1M-vertex model
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "headline.hpp"
+#include "nbs/mesh/streaming_mesh.hpp"
+
+namespace {
+using nbs::Vec3;
+
+struct Stream {
+  std::vector<Vec3> points, los;
+};
+
+/// Dense stripe-profiler stream over a sphere of radius r (160 mm object), sensor 200 mm above the top, moving in y.
+Stream sphere_stream(double r, double path_m, unsigned seed) {
+  Stream s;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 5e-5);
+  const int rays = 640;
+  const double fov = 0.6, step = 0.0003;
+  for (double y = -path_m / 2; y <= path_m / 2; y += step) {
+    const Vec3 o(0, y, r + 0.2);
+    for (int i = 0; i < rays; ++i) {
+      const double th = -fov / 2 + fov * (i + 0.5) / rays;
+      const Vec3 d(std::sin(th), 0, -std::cos(th));
+      const double b = o.dot(d), c = o.squaredNorm() - r * r, disc = b * b - c;
+      if (disc < 0) continue;
+      const double t = -b - std::sqrt(disc);
+      s.points.push_back(o + (t + noise(rng)) * d);
+      s.los.push_back(d);
+    }
+  }
+  return s;
+}
+
+void feed(nbs::StreamingMesh& m, const Stream& s) {
+  for (std::size_t i = 0; i < s.points.size(); ++i) (void)m.insert(s.points[i], s.los[i]);
+}
+
+/// Plane model with about n vertices (grid at 0.7 mm, seeded jitter), los straight down.
+void build_plane(nbs::StreamingMesh& m, std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> j(-5e-5, 5e-5);
+  const int side = static_cast<int>(std::sqrt(static_cast<double>(n)));
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) (void)m.insert(Vec3(x * 7e-4 + j(rng), y * 7e-4 + j(rng), j(rng)), Vec3(0, 0, -1));
+}
+
+/// Probe: dense random points on a 20 mm square in the middle of the model (rescan: rejections + refinements).
+Stream plane_probe(double centre, unsigned seed) {
+  Stream s;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-0.01, 0.01), z(-5e-5, 5e-5);
+  for (int i = 0; i < 200000; ++i) {
+    s.points.emplace_back(centre + u(rng), centre + u(rng), z(rng));
+    s.los.emplace_back(0, 0, -1);
+  }
+  return s;
+}
+
+double seconds_per_point(std::size_t model_vertices) {
+  nbs::StreamingMesh m;
+  build_plane(m, model_vertices, 1);
+  const double side = std::sqrt(static_cast<double>(model_vertices)) * 7e-4;
+  const Stream probe = plane_probe(side / 2, 2);
+  const auto t0 = std::chrono::steady_clock::now();
+  feed(m, probe);
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return dt / static_cast<double>(probe.points.size());
+}
+
+void BM_StreamSphere(benchmark::State& state) {
+  const Stream s = sphere_stream(0.08, 0.1, 3);
+  for (auto _ : state) {
+    nbs::StreamingMesh m;
+    feed(m, s);
+    benchmark::DoNotOptimize(m.face_count());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * s.points.size()));
+}
+BENCHMARK(BM_StreamSphere)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  {
+    const Stream s = sphere_stream(0.08, 0.1, 3);
+    nbs::StreamingMesh m;
+    const auto t0 = std::chrono::steady_clock::now();
+    feed(m, s);
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    nbs::bench::report_headline("mesh.points_per_s", static_cast<double>(s.points.size()) / dt,
+                                "synthetic 160 mm sphere stream, 640 rays/profile; target >= 320000");
+  }
+  const std::size_t big = nbs::bench::quick_mode() ? 250000 : 1000000;
+  const double small_t = seconds_per_point(10000);
+  const double big_t = seconds_per_point(big);
+  nbs::bench::report_headline("mesh.cost_growth_10k_to_1m", big_t / small_t,
+                              nbs::bench::quick_mode() ? "quick: 250k-vertex model; target <= 1.5" : "target <= 1.5");
+  {
+    nbs::StreamingMesh m;
+    build_plane(m, big, 1);
+    nbs::bench::report_headline("mesh.bytes_per_vertex",
+                                static_cast<double>(m.memory_bytes()) / static_cast<double>(m.vertex_count()));
+  }
+  benchmark::Shutdown();
+  return 0;
+}
