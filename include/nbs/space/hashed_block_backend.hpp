@@ -45,6 +45,25 @@ public:
 
   /// Throws InvalidArgument unless resolution_m is finite and > 0.
   explicit HashedBlockBackend(double resolution_m) : grid_(resolution_m) {}
+  /// Move-only; the moved-from backend is empty.
+  HashedBlockBackend(HashedBlockBackend&& o) noexcept
+      : grid_(o.grid_), cache_(o.cache_), blocks_(std::move(o.blocks_)), observed_(o.observed_), epoch_(o.epoch_) {
+    o.reset_after_move();
+  }
+  HashedBlockBackend& operator=(HashedBlockBackend&& o) noexcept {
+    if (this != &o) {
+      grid_ = o.grid_;
+      cache_ = o.cache_;
+      blocks_ = std::move(o.blocks_);
+      observed_ = o.observed_;
+      epoch_ = o.epoch_;
+      o.reset_after_move();
+    }
+    return *this;
+  }
+  HashedBlockBackend(const HashedBlockBackend&) = delete;
+  HashedBlockBackend& operator=(const HashedBlockBackend&) = delete;
+  ~HashedBlockBackend() = default;
 
   // ---- VoxelBackend members --------------------------------------------------------------------------------------
   [[nodiscard]] double resolution_m() const { return grid_.resolution_m(); }
@@ -84,7 +103,7 @@ public:
   [[nodiscard]] std::size_t memory_bytes() const {
     // blocks + per-entry node of std::unordered_map (key, pointer, next, cached hash) + bucket array
     constexpr std::size_t node = sizeof(std::uint64_t) + sizeof(void*) * 3;
-    return blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*) + sizeof(*this);
+    return blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*) + sizeof(*this);  // incl. cache
   }
   [[nodiscard]] KeyBox observed_key_bounds() const {
     KeyBox box;
@@ -121,10 +140,14 @@ public:
     const auto it = blocks_.find(id);
     return it == blocks_.end() ? nullptr : it->second.get();
   }
-  /// The block with id `id`, allocated (all voxels unknown) if absent.
+  /// The block with id `id`, allocated (all voxels unknown) if absent. A direct-mapped cache of recently used
+  /// blocks sits in front of the hash map (blocks are never freed, so cached pointers stay valid).
   [[nodiscard]] Block& block(std::uint64_t id) {
+    CacheEntry& c = cache_[(id * 0x9E3779B97F4A7C15ull) >> (64 - kCacheBits)];
+    if (c.id == id) return *c.block;
     auto& slot = blocks_[id];
     if (!slot) slot = std::make_unique<Block>();
+    c = {id, slot.get()};
     return *slot;
   }
   /// Marks voxel i of b observed and keeps the observed count.
@@ -142,7 +165,21 @@ public:
   }
 
 private:
+  void reset_after_move() {
+    cache_.fill(CacheEntry{});
+    blocks_.clear();
+    observed_ = 0;
+    epoch_ = 0;
+  }
+
+  static constexpr int kCacheBits = 10;
+  struct CacheEntry {
+    std::uint64_t id = ~std::uint64_t{0};  // never a packed key (those use 63 bits)
+    Block* block = nullptr;
+  };
+
   VoxelGrid grid_;
+  std::array<CacheEntry, std::size_t{1} << kCacheBits> cache_{};
   std::unordered_map<std::uint64_t, std::unique_ptr<Block>> blocks_;
   std::size_t observed_ = 0;
   std::uint8_t epoch_ = 0;

@@ -25,7 +25,9 @@ public:
 
   /// Fixed-point coordinate of a voxel-unit value v (world · 1/l_v). Precondition: |v| ≤ 2^20.
   [[nodiscard]] static std::int64_t to_fixed(double v) {
-    return static_cast<std::int64_t>(std::floor(v * static_cast<double>(kOne)));
+    const double x = v * static_cast<double>(kOne);  // |x| ≤ 2^30: the conversion is exact after truncation
+    const auto t = static_cast<std::int64_t>(x);
+    return t - (static_cast<double>(t) > x ? 1 : 0);  // floor without a libm call
   }
   /// Floor division of a fixed-point coordinate by one voxel.
   [[nodiscard]] static std::int32_t key_of_fixed(std::int64_t f) {

@@ -1,0 +1,263 @@
+// Probabilistic voxel space against OctoMap 1.9 on the same rays: six LSP scans (DLR LSP preset, noise Eq. 4.39)
+// of the bunny (0.16 m) from the Embree scanner, unknown area 0.24 × 0.24 × 0.2 m. Headlines (1 thread unless noted):
+//   space.insert_vs_octomap@5mm/@2mm/@1mm — rays/s of ProbabilisticVoxelSpace<> (thesis model) ÷ OctoMap
+//                                            insertPointCloud (one call per profile, BBX limit = the same box)
+//   space.memory_vs_octomap@2mm           — memory_bytes() ÷ OcTree::memoryUsage() after the same scans
+//   space.thesis_update_vs_logodds        — time of the thesis model ÷ the log-odds model (native backend, 2 mm)
+//   space.raycast_vs_octomap              — planning ray casts/s (native log-odds space) ÷ OctoMap computeRayKeys +
+//                                            search per voxel until an occupied voxel, same trees, same segments
+//   space.raycast_2thread_scaling         — cast_rays on 2 threads ÷ 1 thread
+// Each figure is the ratio of the best of N alternating repetitions measured in this process.
+#include <benchmark/benchmark.h>
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+#include "headline.hpp"
+#include "nbs/embree/simulated_scanner.hpp"
+#include "nbs/io/load_mesh.hpp"
+#include "nbs/mesh/normalize.hpp"
+#include "nbs/octomap/octree_backend.hpp"
+#include "nbs/sensor/presets.hpp"
+#include "nbs/space/log_odds_model.hpp"
+#include "nbs/space/probabilistic_voxel_space.hpp"
+
+namespace {
+
+using nbs::Vec3;
+using LogOddsSpace = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
+
+Vec3 to_float(const Vec3& v) { return v.cast<float>().cast<double>(); }
+
+struct Fixture {
+  nbs::LaserStripeProfiler sensor = nbs::presets::dlr_lsp();
+  nbs::Aabb box{to_float(Vec3(-0.12, -0.12, 0.0)), to_float(Vec3(0.12, 0.12, 0.2))};
+  std::vector<nbs::Scan> scans;
+  // per scan, per profile: OctoMap point cloud and origin
+  std::vector<std::vector<std::pair<octomap::Pointcloud, octomap::point3d>>> clouds;
+  std::size_t points = 0;
+
+  Fixture() {
+    nbs::IndexedMesh m = nbs::load_mesh(NBS_DATA_DIR "/meshes/stanford-bunny.obj");
+    nbs::normalize_on_pedestal(m, 0.16, nbs::UpAxis::y);
+    const nbs::embree::SimulatedScanner scanner(m);
+    for (int k = 0; k < 6; ++k) {  // six vertical 0.16 m paths at 0.3 m around the bunny, 20° elevation
+      const double a = 2.0 * std::numbers::pi * k / 6.0;
+      const Vec3 pos(0.3 * std::cos(a), 0.3 * std::sin(a), 0.03);
+      const auto v = nbs::Viewpoint::look_at(pos, {0, 0, 0.0}, Vec3::UnitZ());
+      const Vec3 step = 0.16 * v.y_axis() * (v.y_axis().z() > 0 ? 1.0 : -1.0);
+      nbs::Scan s = scanner.scan(nbs::LinearScanPath(v, pos + step), sensor, 17 + k);
+      for (auto& p : s.points) p = to_float(p);
+      for (auto& pose : s.profile_poses) pose.translation() = to_float(pose.translation());
+      points += s.size();
+      std::vector<std::pair<octomap::Pointcloud, octomap::point3d>> c(s.profile_poses.size());
+      for (std::size_t j = 0; j < s.profile_poses.size(); ++j) {
+        const Vec3 o = s.profile_poses[j].translation();
+        c[j].second = octomap::point3d(float(o.x()), float(o.y()), float(o.z()));
+      }
+      for (std::size_t i = 0; i < s.size(); ++i)
+        c[s.profile_of_point[i]].first.push_back(float(s.points[i].x()), float(s.points[i].y()),
+                                                 float(s.points[i].z()));
+      clouds.push_back(std::move(c));
+      scans.push_back(std::move(s));
+    }
+  }
+
+  [[nodiscard]] nbs::ThesisModel thesis_model() const {
+    nbs::ThesisModel::Setting st;
+    const nbs::RangeNoise noise = sensor.noise;
+    st.sigma_m = [noise](double d) { return std::max(noise.sigma_m(d), 1e-5); };
+    return nbs::ThesisModel(st);
+  }
+  [[nodiscard]] std::size_t rays(int n_scans) const {
+    std::size_t n = 0;
+    for (int i = 0; i < n_scans; ++i) n += scans[i].size();
+    return n;
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+octomap::OcTree make_tree(double res, const nbs::Aabb& box) {
+  octomap::OcTree t(res);
+  octomap::point3d lo(float(box.min.x()), float(box.min.y()), float(box.min.z()));
+  octomap::point3d hi(float(box.max.x()), float(box.max.y()), float(box.max.z()));
+  t.setBBXMin(lo);
+  t.setBBXMax(hi);
+  t.useBBXLimit(true);
+  return t;
+}
+
+void insert_octomap(octomap::OcTree& t, int n_scans) {
+  const auto& f = fixture();
+  for (int i = 0; i < n_scans; ++i)
+    for (const auto& [cloud, origin] : f.clouds[i]) t.insertPointCloud(cloud, origin);
+}
+
+template <class Space>
+void insert_nbs(Space& s, int n_scans) {
+  for (int i = 0; i < n_scans; ++i) (void)s.integrate(fixture().scans[i]);
+}
+
+double seconds(const std::function<void()>& fn) {
+  const auto t0 = std::chrono::steady_clock::now();
+  fn();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Best-of-reps times of several alternating candidates.
+std::vector<double> best_times(int reps, const std::vector<std::function<void()>>& fns) {
+  std::vector<double> best(fns.size(), 1e300);
+  for (int r = 0; r < reps; ++r)
+    for (std::size_t i = 0; i < fns.size(); ++i) best[i] = std::min(best[i], seconds(fns[i]));
+  return best;
+}
+
+// ---- Google Benchmark cases (throughput tables) ----------------------------------------------------------------
+void BM_InsertThesis(benchmark::State& state) {
+  const double res = state.range(0) * 1e-3;
+  const int n = res < 0.0015 ? 1 : (res < 0.003 ? 3 : 6);
+  for (auto _ : state) {
+    nbs::ProbabilisticVoxelSpace<> s(res, fixture().box, fixture().thesis_model());
+    insert_nbs(s, n);
+    benchmark::DoNotOptimize(s.totals().voxel_updates);
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(fixture().rays(n)), benchmark::Counter::kIsIterationInvariantRate);
+}
+void BM_InsertOctomap(benchmark::State& state) {
+  const double res = state.range(0) * 1e-3;
+  const int n = res < 0.0015 ? 1 : (res < 0.003 ? 3 : 6);
+  for (auto _ : state) {
+    auto t = make_tree(res, fixture().box);
+    insert_octomap(t, n);
+    benchmark::DoNotOptimize(t.size());
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(fixture().rays(n)), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_InsertThesis)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_InsertOctomap)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// ---- Headlines ------------------------------------------------------------------------------------------------------
+void headlines() {
+  const auto& f = fixture();
+  const int reps = nbs::bench::quick_mode() ? 2 : 5;
+  std::printf("space: %zu points in %zu scans\n", f.points, f.scans.size());
+
+  for (const auto& [mm, n] : std::vector<std::pair<int, int>>{{5, 6}, {2, 3}, {1, 1}}) {
+    const double res = mm * 1e-3;
+    const auto t = best_times(reps, {[&] {
+                                       nbs::ProbabilisticVoxelSpace<> s(res, f.box, f.thesis_model());
+                                       insert_nbs(s, n);
+                                     },
+                                     [&] {
+                                       auto tree = make_tree(res, f.box);
+                                       insert_octomap(tree, n);
+                                     }});
+    const double rays = double(f.rays(n));
+    std::printf("space: insert @%dmm: thesis %.2f M rays/s, OctoMap %.3f M rays/s\n", mm, rays / t[0] * 1e-6,
+                rays / t[1] * 1e-6);
+    char name[64];
+    std::snprintf(name, sizeof name, "space.insert_vs_octomap@%dmm", mm);
+    nbs::bench::report_headline(name, t[1] / t[0], mm == 5 ? "target >= 4" : "target >= 6");
+  }
+
+  {  // memory and update cost at 2 mm, all six scans
+    nbs::ProbabilisticVoxelSpace<> s(0.002, f.box, f.thesis_model());
+    insert_nbs(s, 6);
+    auto tree = make_tree(0.002, f.box);
+    insert_octomap(tree, 6);
+    std::printf("space: memory @2mm: nbs %.1f MB (%zu voxels), OctoMap %.1f MB (%zu nodes)\n",
+                s.memory_bytes() * 1e-6, nbs::observed_count(s.backend()), tree.memoryUsage() * 1e-6, tree.size());
+    nbs::bench::report_headline("space.memory_vs_octomap@2mm", double(s.memory_bytes()) / double(tree.memoryUsage()),
+                                "target <= 0.5");
+    const auto t = best_times(reps, {[&] {
+                                       nbs::ProbabilisticVoxelSpace<> a(0.002, f.box, f.thesis_model());
+                                       insert_nbs(a, 6);
+                                     },
+                                     [&] {
+                                       LogOddsSpace b(0.002, f.box);
+                                       insert_nbs(b, 6);
+                                     }});
+    nbs::bench::report_headline("space.thesis_update_vs_logodds", t[0] / t[1], "target <= 1.3");
+  }
+
+  {  // planning ray casts at 2 mm: fans from 32 viewpoints on a sphere of 0.3 m, 0.45 m long, clipped to the box
+    LogOddsSpace s(0.002, f.box);
+    insert_nbs(s, 6);
+    auto tree = make_tree(0.002, f.box);
+    insert_octomap(tree, 6);
+    std::vector<nbs::Ray> rays;
+    for (int v = 0; v < 32; ++v) {
+      const double az = 2.0 * std::numbers::pi * v / 32.0, el = 0.2 + 0.8 * (v % 4) / 4.0;
+      const Vec3 o = Vec3(0, 0, 0.08) + 0.3 * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      const auto vp = nbs::Viewpoint::look_at(o, Vec3(0, 0, 0.08));
+      for (int i = 0; i < 32; ++i)
+        for (int j = 0; j < 32; ++j) {
+          const Vec3 d = (vp.view_direction() + 0.5 * (i / 31.0 - 0.5) * vp.x_axis() + 0.5 * (j / 31.0 - 0.5) * vp.y_axis()).normalized();
+          double t0, t1;
+          const Vec3 e = o + 0.45 * d;
+          if (!nbs::detail::clip_segment(o, e, s.voxel_bounds(), t0, t1)) continue;
+          rays.push_back({to_float(o + t0 * (e - o)), to_float(o + t1 * (e - o))});
+        }
+    }
+    std::size_t nbs_voxels = 0, octo_voxels = 0, nbs_hits = 0, octo_hits = 0;
+    const auto cast_nbs = [&](unsigned threads) {
+      std::vector<unsigned> unknown(rays.size(), 0);
+      const auto r = s.cast_rays(rays, threads, [&](std::size_t i, const nbs::VoxelKey&, const nbs::LogOddsState& st) {
+        unknown[i] += st.log_odds == 0.0f ? 1u : 0u;
+      });
+      nbs_voxels = nbs_hits = 0;
+      for (const auto& x : r) {
+        nbs_voxels += x.voxels;
+        nbs_hits += x.hit ? 1 : 0;
+      }
+    };
+    const auto cast_octomap = [&] {
+      octomap::KeyRay kr;
+      octo_voxels = octo_hits = 0;
+      std::vector<unsigned> unknown(rays.size(), 0);
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const auto& r = rays[i];
+        const octomap::point3d a(float(r.origin.x()), float(r.origin.y()), float(r.origin.z()));
+        const octomap::point3d b(float(r.end.x()), float(r.end.y()), float(r.end.z()));
+        if (!tree.computeRayKeys(a, b, kr)) continue;
+        for (const auto& k : kr) {
+          ++octo_voxels;
+          const auto* n = tree.search(k);
+          if (!n) {
+            ++unknown[i];
+          } else if (tree.isNodeOccupied(n)) {
+            ++octo_hits;
+            break;
+          }
+        }
+      }
+      benchmark::DoNotOptimize(unknown.data());
+    };
+    const auto t = best_times(reps, {[&] { cast_nbs(1); }, cast_octomap, [&] { cast_nbs(2); }});
+    std::printf("space: raycast: %zu rays; nbs %.2f M rays/s (%zu voxels, %zu hits), OctoMap %.3f M rays/s (%zu voxels, %zu hits)\n",
+                rays.size(), rays.size() / t[0] * 1e-6, nbs_voxels, nbs_hits, rays.size() / t[1] * 1e-6, octo_voxels,
+                octo_hits);
+    nbs::bench::report_headline("space.raycast_vs_octomap", t[1] / t[0], "target >= 4");
+    nbs::bench::report_headline("space.raycast_2thread_scaling", t[0] / t[2], "target >= 1.8; 2 shared cores");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  headlines();
+  return 0;
+}
