@@ -17,10 +17,10 @@ for exe in "$dir"/benchmarks/bench_*; do
   [[ -x "$exe" ]] || continue
   echo "=== $(basename "$exe")" >&2
   NBS_BENCH_QUICK=$quick "$exe" --benchmark_min_time=$([[ $quick == 1 ]] && echo 0.05 || echo 0.5) \
-    | tee -a "$log" | grep -v '^HEADLINE' >&2 || { echo "bench: $exe failed" >&2; exit 1; }
+    | tee -a "$log" | grep -v 'HEADLINE ' >&2 || { echo "bench: $exe failed" >&2; exit 1; }
 done
 echo "--- headline figures"
-grep '^HEADLINE ' "$log" | sed 's/^HEADLINE //'
+grep -o 'HEADLINE .*' "$log" | sed 's/^HEADLINE //'
 {
   echo "# Performance"
   echo
@@ -31,7 +31,7 @@ grep '^HEADLINE ' "$log" | sed 's/^HEADLINE //'
   echo
   echo "| figure | value | note |"
   echo "|---|---|---|"
-  grep '^HEADLINE ' "$log" | sed 's/^HEADLINE //' | sed -E 's/^([^:]+): ([^ ]+)( +\((.*)\))?$/| `\1` | \2 | \4 |/'
+  grep -o 'HEADLINE .*' "$log" | sed 's/^HEADLINE //' | sed -E 's/^([^:]+): ([^ ]+)( +\((.*)\))?$/| `\1` | \2 | \4 |/'
 } > docs/performance.md
 rm -f "$log"
 echo "bench: wrote docs/performance.md"
