@@ -1,0 +1,74 @@
+#pragma once
+/// \file
+/// The simulated beams of a scan candidate (Sec. 4.5.3): the sensor's rays along a linear scan path, clipped to the
+/// sensor's working range, with beam sub-sampling (every k-th profile / ray, as Vasquez-Gomez et al. 2013).
+
+#include <cstddef>
+#include <vector>
+
+#include "nbs/core/error.hpp"
+#include "nbs/core/scan_path.hpp"
+#include "nbs/sensor/area_sensor.hpp"
+#include "nbs/sensor/laser_stripe_profiler.hpp"
+#include "nbs/space/probabilistic_voxel_space.hpp"
+
+namespace nbs {
+
+/// Beam sub-sampling: keep every `profile_stride`-th profile (LSP; rows for area sensors) and every `ray_stride`-th
+/// ray of a profile (columns for area sensors). The first profile/ray is always kept; strides ≥ 1.
+struct RaySampling {
+  std::size_t profile_stride = 1;
+  std::size_t ray_stride = 1;
+  void validate() const {
+    detail::require(profile_stride >= 1 && ray_stride >= 1, "RaySampling strides must be >= 1, got ",
+                    profile_stride, ", ", ray_stride);
+  }
+};
+
+namespace detail {
+/// i + stride, or n if that would reach or pass n (no overflow for any stride).
+[[nodiscard]] constexpr std::size_t next_index(std::size_t i, std::size_t stride, std::size_t n) {
+  return n - i > stride ? i + stride : n;
+}
+}  // namespace detail
+
+/// Appends to `out` the rays of an LSP swept along `path` (`LaserStripeProfiler::profile_poses`): for ray direction
+/// d from sensor position o, the segment o + min_m·d → o + max_m·d (world metres).
+inline void append_candidate_rays(const LinearScanPath& path, const LaserStripeProfiler& lsp,
+                                  const RaySampling& sampling, std::vector<Ray>& out) {
+  sampling.validate();
+  const std::vector<Pose> poses = lsp.profile_poses(path);
+  const auto n = static_cast<std::size_t>(lsp.points_per_profile);
+  for (std::size_t k = 0; k < poses.size(); k = detail::next_index(k, sampling.profile_stride, poses.size())) {
+    const Vec3 o = poses[k].translation();
+    const Mat3 r = poses[k].linear();
+    for (std::size_t i = 0; i < n; i = detail::next_index(i, sampling.ray_stride, n)) {
+      const Vec3 d = r * lsp.ray_direction_sensor(static_cast<int>(i));
+      out.push_back({o + lsp.range.min_m * d, o + lsp.range.max_m * d});
+    }
+  }
+}
+
+/// Appends the rays of an area sensor at the path's start viewpoint (rows by profile_stride, columns by ray_stride),
+/// clipped to the working range as above. A moving area sensor is evaluated at its first viewpoint only.
+inline void append_candidate_rays(const LinearScanPath& path, const AreaSensor& sensor, const RaySampling& sampling,
+                                  std::vector<Ray>& out) {
+  sampling.validate();
+  sensor.validate();
+  const Vec3 o = path.start().position();
+  const Mat3 r = path.start().pose().linear();
+  const auto h = static_cast<std::size_t>(sensor.height_px), w = static_cast<std::size_t>(sensor.width_px);
+  for (std::size_t v = 0; v < h; v = detail::next_index(v, sampling.profile_stride, h))
+    for (std::size_t u = 0; u < w; u = detail::next_index(u, sampling.ray_stride, w)) {
+      const Vec3 d = r * sensor.ray_direction_sensor(static_cast<int>(u), static_cast<int>(v));
+      out.push_back({o + sensor.range.min_m * d, o + sensor.range.max_m * d});
+    }
+}
+
+/// A sensor whose candidate rays nbs can simulate.
+template <class S>
+concept CandidateRaySensor = requires(const S& s, const LinearScanPath& p, const RaySampling& r, std::vector<Ray>& out) {
+  append_candidate_rays(p, s, r, out);
+};
+
+}  // namespace nbs

@@ -1,0 +1,201 @@
+#pragma once
+/// \file
+/// Candidate evaluation (Sec. 4.5.3): simulate each scan candidate's beams in the voxel space, feed the visited
+/// voxels to a UtilityTerm, return every candidate's utility and the best one. Parallel over candidates with
+/// std::thread; each candidate is evaluated entirely by one thread with its own copy of the term and its own
+/// visited set, so the values are bit-identical for any thread count.
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <span>
+#include <thread>
+#include <vector>
+
+#include "nbs/core/error.hpp"
+#include "nbs/core/scan_path.hpp"
+#include "nbs/utility/candidate_rays.hpp"
+#include "nbs/utility/detail/key_set.hpp"
+#include "nbs/utility/utility_term.hpp"
+
+namespace nbs {
+
+/// What the evaluator needs of a voxel space (ProbabilisticVoxelSpace models it).
+template <class S>
+concept PlanningSpace = requires(const S& s, const Ray& r, const VoxelKey& k) {
+  typename S::State;
+  s.cast_ray(r, [](const VoxelKey&, const typename S::State&) { return true; });
+  { s.model().probability(typename S::State{}) } -> std::convertible_to<double>;
+  { s.model().occupied(typename S::State{}) } -> std::convertible_to<bool>;
+  { s.observed(k) } -> std::convertible_to<bool>;
+  { s.features().find(k) } -> std::convertible_to<const SurfaceFeatures*>;
+  { s.grid().center(k) } -> std::convertible_to<Vec3>;
+};
+
+struct EvaluationSetting {
+  unsigned threads = 0;        ///< worker threads; 0 = std::thread::hardware_concurrency()
+  RaySampling sampling;        ///< beam sub-sampling (Sec. 4.5.3)
+};
+
+enum class EvaluationStatus {
+  ok,             ///< values and best are set
+  no_candidates,  ///< the candidate list was empty; best == npos
+};
+
+/// Per-candidate utilities and the choice. Sizes of the vectors equal the number of candidates.
+struct EvaluationResult {
+  static constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
+  EvaluationStatus status = EvaluationStatus::no_candidates;
+  std::vector<double> values;          ///< utility of each candidate (higher is better)
+  std::vector<std::uint64_t> rays;     ///< simulated rays per candidate
+  std::vector<std::uint64_t> voxels;   ///< voxel visits per candidate (repeated visits included)
+  /// Index of the largest value; ties go to the lower index; NaN values are never chosen; npos if none.
+  std::size_t best = npos;
+  double t_nbs_s = 0.0;                ///< wall-clock time of the evaluation, seconds
+  unsigned threads = 0;                ///< threads actually used
+  [[nodiscard]] bool ok() const { return status == EvaluationStatus::ok && best != npos; }
+};
+
+/// Index of the largest non-NaN value (ties: lower index), or EvaluationResult::npos.
+[[nodiscard]] inline std::size_t best_index(std::span<const double> values) {
+  std::size_t best = EvaluationResult::npos;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isnan(values[i]) && (best == EvaluationResult::npos || values[i] > values[best])) best = i;
+  return best;
+}
+
+namespace detail {
+
+/// Evaluates one candidate with `term` (reset by begin_candidate), reusing `rays` and `visited`.
+template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
+                  const RaySampling& sampling, Term& term, std::vector<Ray>& rays, KeySet& visited,
+                  double& value, std::uint64_t& ray_count, std::uint64_t& voxel_count) {
+  using State = typename Space::State;
+  term.begin_candidate(index);
+  ray_count = voxel_count = 0;
+  if constexpr (term_needs_rays<Term>()) {
+    rays.clear();
+    append_candidate_rays(path, sensor, sampling, rays);
+    visited.clear();
+    const auto& model = space.model();
+    const auto& features = space.features();
+    const bool have_features = features.size() > 0;
+    for (const Ray& ray : rays) {
+      const Vec3 dir = (ray.end - ray.origin).normalized();
+      std::uint32_t n = 0;
+      term.begin_ray();
+      const RaycastResult res = space.cast_ray(ray, [&](const VoxelKey& k, const State& s) {
+        VoxelVisit v;
+        v.key = k;
+        v.probability = model.probability(s);
+        v.occupied = model.occupied(s);
+        if constexpr (std::equality_comparable<State>) {
+          v.observed = !(s == State{}) || space.observed(k);  // only unknown-looking states need the lookup
+        } else {
+          v.observed = space.observed(k);
+        }
+        v.first_visit = visited.insert(k.pack());
+        // Features exist only for surface voxels (p ≥ 0.95, Sec. 4.5.1), which are occupied; look up only those.
+        v.features = (have_features && v.occupied) ? features.find(k) : nullptr;
+        v.direction = dir;
+        v.distance_m = (space.grid().center(k) - ray.origin).norm();
+        v.index = n++;
+        term.visit(v);
+        return true;
+      });
+      term.end_ray(RayEnd{res.hit, res.voxels});
+      voxel_count += res.voxels;
+    }
+    ray_count = rays.size();
+  }
+  value = static_cast<double>(term.value());
+}
+
+}  // namespace detail
+
+/// Evaluates every candidate scan path with a copy of `prototype` and returns the utilities and the best index
+/// (status no_candidates for an empty list). The sensor is validated first; invalid input throws InvalidArgument
+/// (the lowest-index candidate's error if several fail). Thread-safety: `space` is only read; do not integrate
+/// into it concurrently.
+template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+[[nodiscard]] EvaluationResult evaluate_candidates(std::span<const LinearScanPath> candidates, const Sensor& sensor,
+                                                   const Space& space, const Term& prototype,
+                                                   const EvaluationSetting& setting = {}) {
+  const auto t0 = std::chrono::steady_clock::now();
+  setting.sampling.validate();
+  sensor.validate();
+  EvaluationResult r;
+  const std::size_t n = candidates.size();
+  r.values.assign(n, 0.0);
+  r.rays.assign(n, 0);
+  r.voxels.assign(n, 0);
+  if (n == 0) {
+    r.status = EvaluationStatus::no_candidates;
+    r.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
+  unsigned threads = setting.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : setting.threads;
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, n));
+  r.threads = threads;
+
+  std::vector<std::exception_ptr> errors(n);
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    Term term = prototype;
+    std::vector<Ray> rays;
+    detail::KeySet visited;
+    for (std::size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
+      try {
+        detail::evaluate_one(i, candidates[i], sensor, space, setting.sampling, term, rays, visited, r.values[i],
+                             r.rays[i], r.voxels[i]);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  };
+  if (threads <= 1) {
+    worker();
+  } else {
+    std::vector<std::thread> pool;
+    pool.reserve(threads);
+    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
+    for (auto& th : pool) th.join();
+  }
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  r.best = best_index(r.values);
+  r.status = EvaluationStatus::ok;
+  r.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+/// Convenience overload for a vector of candidates.
+template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+[[nodiscard]] EvaluationResult evaluate_candidates(const std::vector<LinearScanPath>& candidates, const Sensor& sensor,
+                                                   const Space& space, const Term& prototype,
+                                                   const EvaluationSetting& setting = {}) {
+  return evaluate_candidates(std::span<const LinearScanPath>(candidates), sensor, space, prototype, setting);
+}
+
+/// N_v of Eqs. (4.32)/(4.34): voxels overlapping the space's bounding box of the unknown area that are not free
+/// (free: observed with p < `free_below`). At least 1.
+template <class Space>
+[[nodiscard]] double non_free_voxel_count(const Space& space, double free_below = 0.5) {
+  detail::require_in_range("free_below", free_below, 0.0, 1.0);
+  const KeyBox box = space.bounds_keys();
+  std::uint64_t free_voxels = 0;
+  space.for_each([&](const VoxelKey& k, const auto& s) {
+    if (box.contains(k) && space.model().probability(s) < free_below) ++free_voxels;
+  });
+  const std::uint64_t total = box.volume();
+  return total > free_voxels ? static_cast<double>(total - free_voxels) : 1.0;
+}
+
+}  // namespace nbs

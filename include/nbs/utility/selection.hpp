@@ -1,0 +1,146 @@
+#pragma once
+/// \file
+/// Runtime choice of the selection criterion (Sec. 4.7 and the peer metrics of Delmerico et al. 2018) for CLIs and
+/// configuration files: a closed enum with short string codes, and `evaluate_selection`, one switch over the
+/// precompiled terms.
+///
+/// | code | criterion | term |
+/// |---|---|---|
+/// | R | Random | RandomSelection (seeded) |
+/// | I | IG: f_utility with ω = 0 (Sec. 4.7) | WeightedUtility |
+/// | Q | Quality: f_utility with ω = 1 | WeightedUtility |
+/// | C | IG/Quality: f_utility with ω(n_s), Eq. (4.31) | WeightedUtility |
+/// | OA | occlusion-aware VI | OcclusionAwareVI |
+/// | UV | unobserved-voxel VI | UnobservedVoxelVI |
+/// | RSV | rear-side-voxel VI | RearSideVoxelVI |
+/// | RSE | rear-side-entropy VI | RearSideEntropyVI |
+/// | PC | proximity-count VI | ProximityCountVI |
+/// | AE | average-entropy VI | AverageEntropyVI |
+/// | VG | Vasquez-Gomez area factor | VasquezGomezVI |
+
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <string_view>
+
+#include "nbs/core/error.hpp"
+#include "nbs/utility/evaluate_candidates.hpp"
+#include "nbs/utility/peer_terms.hpp"
+#include "nbs/utility/thesis_terms.hpp"
+
+namespace nbs {
+
+enum class Selection {
+  random,
+  information_gain,
+  quality,
+  ig_quality,
+  occlusion_aware,
+  unobserved_voxel,
+  rear_side_voxel,
+  rear_side_entropy,
+  proximity_count,
+  average_entropy,
+  vasquez_gomez,
+};
+
+/// Every Selection, in declaration order.
+inline constexpr std::array<Selection, 11> kAllSelections{
+    Selection::random,          Selection::information_gain, Selection::quality,
+    Selection::ig_quality,      Selection::occlusion_aware,  Selection::unobserved_voxel,
+    Selection::rear_side_voxel, Selection::rear_side_entropy, Selection::proximity_count,
+    Selection::average_entropy, Selection::vasquez_gomez};
+
+/// The string code of `s` (R, I, Q, C, OA, UV, RSV, RSE, PC, AE, VG).
+[[nodiscard]] constexpr std::string_view format_selection(Selection s) {
+  switch (s) {
+    case Selection::random: return "R";
+    case Selection::information_gain: return "I";
+    case Selection::quality: return "Q";
+    case Selection::ig_quality: return "C";
+    case Selection::occlusion_aware: return "OA";
+    case Selection::unobserved_voxel: return "UV";
+    case Selection::rear_side_voxel: return "RSV";
+    case Selection::rear_side_entropy: return "RSE";
+    case Selection::proximity_count: return "PC";
+    case Selection::average_entropy: return "AE";
+    case Selection::vasquez_gomez: return "VG";
+  }
+  return "?";
+}
+
+/// Parses a code (case-insensitive, surrounding blanks ignored). Throws InvalidArgument naming the input and the
+/// valid codes otherwise.
+[[nodiscard]] inline Selection parse_selection(std::string_view code) {
+  while (!code.empty() && std::isspace(static_cast<unsigned char>(code.front()))) code.remove_prefix(1);
+  while (!code.empty() && std::isspace(static_cast<unsigned char>(code.back()))) code.remove_suffix(1);
+  std::string upper(code);
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  std::string valid;
+  for (Selection s : kAllSelections) {
+    if (upper == format_selection(s)) return s;
+    valid += valid.empty() ? "" : ", ";
+    valid += format_selection(s);
+  }
+  throw InvalidArgument(detail::concat("unknown selection criterion '", code, "'; valid codes: ", valid));
+}
+
+/// Parameters of every criterion; each uses the fields it needs.
+struct SelectionSetting {
+  Selection selection = Selection::ig_quality;
+  double n_scans = 0.0;                                  ///< n_s for ω(n_s) (C only), ≥ 0
+  double n_q = 5.0;                                      ///< n_q of Eq. (4.31)
+  double lambda = 0.7;                                   ///< λ of Eq. (4.33)
+  double cutoff_rad = 70.0 * std::numbers::pi / 180.0;   ///< incidence cut-off of Eq. (4.33)
+  std::uint64_t seed = 0;                                ///< Random
+  double proximity_d_max_m = 0.015;                      ///< d_max of PC and VG (3 voxels of 5 mm)
+  bool peers_count_once = false;                         ///< apply Sec. 4.5.3's visited marking to the peer VIs
+};
+
+/// Evaluates `candidates` with the criterion `sel.selection` (see the table above). N_v is computed from the space
+/// (`non_free_voxel_count`); PC and VG build a ProximityField first (included in t_nbs_s).
+template <PlanningSpace Space, CandidateRaySensor Sensor>
+[[nodiscard]] EvaluationResult evaluate_selection(std::span<const LinearScanPath> candidates, const Sensor& sensor,
+                                                  const Space& space, const SelectionSetting& sel,
+                                                  const EvaluationSetting& setting = {}) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto thesis = [&](double omega) {
+    WeightedUtility::Setting w;
+    w.non_free_voxels = non_free_voxel_count(space);
+    w.omega = omega;
+    w.lambda = sel.lambda;
+    w.cutoff_rad = sel.cutoff_rad;
+    return evaluate_candidates(candidates, sensor, space, WeightedUtility(w), setting);
+  };
+  const PeerTermSetting peer{sel.peers_count_once};
+  EvaluationResult r;
+  switch (sel.selection) {
+    case Selection::random: r = evaluate_candidates(candidates, sensor, space, RandomSelection({sel.seed}), setting); break;
+    case Selection::information_gain: r = thesis(0.0); break;
+    case Selection::quality: r = thesis(1.0); break;
+    case Selection::ig_quality: r = thesis(modeling_weight(sel.n_scans, sel.n_q)); break;
+    case Selection::occlusion_aware: r = evaluate_candidates(candidates, sensor, space, OcclusionAwareVI(peer), setting); break;
+    case Selection::unobserved_voxel: r = evaluate_candidates(candidates, sensor, space, UnobservedVoxelVI(peer), setting); break;
+    case Selection::rear_side_voxel: r = evaluate_candidates(candidates, sensor, space, RearSideVoxelVI(peer), setting); break;
+    case Selection::rear_side_entropy: r = evaluate_candidates(candidates, sensor, space, RearSideEntropyVI(peer), setting); break;
+    case Selection::average_entropy:
+      r = evaluate_candidates(candidates, sensor, space, AverageEntropyVI({sel.peers_count_once, false}), setting);
+      break;
+    case Selection::proximity_count: {
+      const ProximityField field = ProximityField::build(space, sel.proximity_d_max_m);
+      r = evaluate_candidates(candidates, sensor, space, ProximityCountVI(field, peer), setting);
+      break;
+    }
+    case Selection::vasquez_gomez: {
+      const ProximityField field = ProximityField::build(space, sel.proximity_d_max_m);
+      r = evaluate_candidates(candidates, sensor, space, VasquezGomezVI(field), setting);
+      break;
+    }
+  }
+  r.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace nbs

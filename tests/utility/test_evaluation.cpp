@@ -1,0 +1,198 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <vector>
+
+#include "nbs/space/ray_traversal.hpp"
+#include "nbs/utility/evaluate_candidates.hpp"
+#include "nbs/utility/thesis_terms.hpp"
+#include "test_terms_fixtures.hpp"
+
+using namespace nbs;
+
+namespace {
+
+double H(double p) { return p <= 0.0 || p >= 1.0 ? 0.0 : -p * std::log2(p) - (1 - p) * std::log2(1 - p); }
+
+LaserStripeProfiler small_lsp() {
+  LaserStripeProfiler lsp;
+  lsp.points_per_profile = 9;
+  lsp.fan_angle_rad = 0.4;
+  lsp.range = {0.005, 0.3};
+  lsp.profile_spacing_m = 0.01;
+  return lsp;
+}
+
+// A space whose slab x ∈ [0, 0.06) is well known free (5 scans), x = 6 occupied, the rest unknown.
+nbs_test::LogOddsSpace slab_space() {
+  auto space = nbs_test::make_space();
+  std::vector<std::pair<int, int>> rows;
+  for (int y = 0; y < 10; ++y)
+    for (int z = 0; z < 10; ++z) rows.push_back({y, z});
+  for (int k = 0; k < 5; ++k) space.integrate(nbs_test::rows_scan(rows, 6));
+  return space;
+}
+
+// Brute-force oracle of e_v's sum for one candidate: enumerate each ray's voxels with traverse_segment, keep those in
+// the box, stop after the first occupied one, count each key once.
+double oracle_entropy_sum(const nbs_test::LogOddsSpace& space, const std::vector<Ray>& rays) {
+  std::set<std::uint64_t> seen;
+  double sum = 0.0;
+  const KeyBox box = space.bounds_keys();
+  for (const Ray& r : rays) {
+    traverse_segment(space.grid(), r.origin, r.end, [&](const VoxelKey& k) {
+      if (!box.contains(k)) return true;
+      if (seen.insert(k.pack()).second) sum += H(space.probability(k));
+      return !space.occupied(k);
+    });
+  }
+  return sum;
+}
+
+std::vector<LinearScanPath> ring_candidates(int n) {
+  std::vector<LinearScanPath> c;
+  const Vec3 centre(0.05, 0.05, 0.05);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.141592653589793 * i / n;
+    const Vec3 p = centre + Vec3(0.15 * std::cos(a), 0.15 * std::sin(a), 0.03 * (i % 3 - 1));
+    const Viewpoint v = Viewpoint::look_at(p, centre);
+    c.emplace_back(v, p + 0.03 * v.y_axis());
+  }
+  return c;
+}
+
+
+}  // namespace
+
+TEST_CASE("evaluation matches a brute-force entropy oracle", "[utility][evaluation]") {
+  const auto space = slab_space();
+  const auto lsp = small_lsp();
+  const auto cands = ring_candidates(4);
+  const double n_v = non_free_voxel_count(space);
+  const auto res = evaluate_candidates(cands, lsp, space, VolumetricEntropy({n_v, true}), nbs_test::threads(1));
+  REQUIRE(res.ok());
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    std::vector<Ray> rays;
+    append_candidate_rays(cands[i], lsp, {}, rays);
+    CHECK(res.rays[i] == rays.size());
+    CHECK(res.values[i] * n_v == Approx(oracle_entropy_sum(space, rays)).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("each voxel counts once per candidate, again for the next candidate", "[utility][evaluation]") {
+  const auto space = nbs_test::make_space();  // all unknown: entropy 1 per voxel
+  LaserStripeProfiler lsp = small_lsp();
+  lsp.points_per_profile = 1;  // one ray along +z per profile
+  // Two profiles 0 m apart is impossible; a zero-length path gives one profile. Evaluate the same path twice as
+  // two candidates: both must see the same 10 unknown voxels.
+  const Viewpoint v = Viewpoint::look_at(Vec3(0.055, 0.055, -0.05), Vec3(0.055, 0.055, 0.5), Vec3::UnitX());
+  const std::vector<LinearScanPath> cands{LinearScanPath(v), LinearScanPath(v)};
+  const auto once = evaluate_candidates(cands, lsp, space, VolumetricEntropy(), nbs_test::threads(1));
+  CHECK(once.values[0] == 10.0);
+  CHECK(once.values[1] == 10.0);
+  // A path along +x over 2 cm with 1 cm spacing: 3 profiles, 3 distinct columns of 10 voxels each.
+  const std::vector<LinearScanPath> moving{LinearScanPath(v, v.position() + Vec3(0.02, 0, 0))};
+  CHECK(evaluate_candidates(moving, lsp, space, VolumetricEntropy(), nbs_test::threads(1)).values[0] == 30.0);
+  // The sub-sampled profiles: every 2nd profile → profiles 0 and 2.
+  EvaluationSetting sub;
+  sub.sampling.profile_stride = 2;
+  CHECK(evaluate_candidates(moving, lsp, space, VolumetricEntropy(), sub).values[0] == 20.0);
+  // A path along the beam revisits the same column: counted once, 10 voxels; without the marking, 3 × 10.
+  const std::vector<LinearScanPath> along{LinearScanPath(v, v.position() + Vec3(0, 0, 0.02))};
+  const auto a1 = evaluate_candidates(along, lsp, space, VolumetricEntropy(), nbs_test::threads(1));
+  CHECK(a1.values[0] == 10.0);
+  CHECK(a1.voxels[0] == 30u);
+  CHECK(evaluate_candidates(along, lsp, space, VolumetricEntropy({1.0, false}), nbs_test::threads(1)).values[0] == 30.0);
+}
+
+TEST_CASE("1, 2 and 3 threads give identical values and the same best", "[utility][evaluation]") {
+  const auto space = slab_space();
+  const auto lsp = small_lsp();
+  const auto cands = ring_candidates(7);
+  const WeightedUtility term(WeightedUtility::thesis(non_free_voxel_count(space), 3));
+  const auto r1 = evaluate_candidates(cands, lsp, space, term, nbs_test::threads(1));
+  const auto r2 = evaluate_candidates(cands, lsp, space, term, nbs_test::threads(2));
+  const auto r3 = evaluate_candidates(cands, lsp, space, term, nbs_test::threads(3));
+  REQUIRE(r1.ok());
+  CHECK(r1.values == r2.values);
+  CHECK(r1.values == r3.values);
+  CHECK(r1.best == r2.best);
+  CHECK(r1.best == r3.best);
+  CHECK(r2.threads == 2);
+  CHECK(r1.best == best_index(r1.values));
+  CHECK(r1.t_nbs_s >= 0.0);
+  const auto rnd1 = evaluate_candidates(cands, lsp, space, RandomSelection({9}), nbs_test::threads(1));
+  const auto rnd2 = evaluate_candidates(cands, lsp, space, RandomSelection({9}), nbs_test::threads(2));
+  CHECK(rnd1.values == rnd2.values);
+  CHECK(rnd1.best == rnd2.best);
+  CHECK(rnd1.rays[0] == 0u);  // Random casts no rays
+}
+
+TEST_CASE("IG prefers a view of unknown space over a view of free space", "[utility][evaluation]") {
+  const auto space = slab_space();
+  REQUIRE(space.probability(VoxelKey{2, 5, 5}) < 0.2);
+  AreaSensor cam;
+  cam.width_px = 6;
+  cam.height_px = 4;
+  cam.horizontal_fov_rad = 0.2;
+  cam.vertical_fov_rad = 0.2;
+  cam.range = {0.001, 0.04};
+  // Both look along +y from inside the box, one in the free slab (x = 0.03), one in unknown space (x = 0.08).
+  const Viewpoint in_free = Viewpoint::look_at(Vec3(0.03, 0.03, 0.05), Vec3(0.03, 1.0, 0.05));
+  const Viewpoint in_unknown = Viewpoint::look_at(Vec3(0.08, 0.03, 0.05), Vec3(0.08, 1.0, 0.05));
+  const std::vector<LinearScanPath> cands{LinearScanPath(in_free), LinearScanPath(in_unknown)};
+  WeightedUtility::Setting ig;
+  ig.non_free_voxels = non_free_voxel_count(space);
+  ig.omega = 0.0;
+  const auto r = evaluate_candidates(cands, cam, space, WeightedUtility(ig), nbs_test::threads(2));
+  REQUIRE(r.ok());
+  CHECK(r.best == 1);
+  CHECK(r.values[1] > 1.5 * r.values[0]);
+}
+
+TEST_CASE("ties go to the lower index; NaN is never chosen", "[utility][evaluation]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(best_index(std::vector<double>{1.0, 2.0, 2.0}) == 1);
+  CHECK(best_index(std::vector<double>{nan, 0.5, nan}) == 1);
+  CHECK(best_index(std::vector<double>{nan}) == EvaluationResult::npos);
+  CHECK(best_index(std::vector<double>{}) == EvaluationResult::npos);
+}
+
+TEST_CASE("bad input: empty list, invalid sensor or sampling, non-finite paths", "[utility][evaluation]") {
+  const auto space = nbs_test::make_space();
+  auto lsp = small_lsp();
+  const std::vector<LinearScanPath> none;
+  const auto r = evaluate_candidates(none, lsp, space, VolumetricEntropy());
+  CHECK(r.status == EvaluationStatus::no_candidates);
+  CHECK(!r.ok());
+  CHECK(r.best == EvaluationResult::npos);
+  CHECK(r.values.empty());
+
+  const auto cands = ring_candidates(2);
+  EvaluationSetting bad;
+  bad.sampling.ray_stride = 0;
+  CHECK_THROWS_AS(evaluate_candidates(cands, lsp, space, VolumetricEntropy(), bad), InvalidArgument);
+  lsp.points_per_profile = 0;
+  CHECK_THROWS_AS(evaluate_candidates(cands, lsp, space, VolumetricEntropy()), InvalidArgument);
+
+  // A NaN path cannot be built: the core types reject it before evaluation.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(LinearScanPath(Viewpoint(), Vec3(nan, 0, 0)), InvalidArgument);
+  Pose p = Pose::Identity();
+  p.translation().x() = nan;
+  CHECK_THROWS_AS(Viewpoint(p), InvalidArgument);
+
+  // Huge strides are safe (first profile / ray only); a candidate far outside the box sees nothing.
+  EvaluationSetting huge;
+  huge.sampling = {std::numeric_limits<std::size_t>::max(), std::numeric_limits<std::size_t>::max()};
+  const auto h = evaluate_candidates(cands, small_lsp(), space, VolumetricEntropy(), huge);
+  CHECK(h.rays[0] == 1u);
+  const Viewpoint far = Viewpoint::look_at(Vec3(100, 100, 100), Vec3(200, 200, 200));
+  const auto f = evaluate_candidates(std::vector<LinearScanPath>{LinearScanPath(far)}, small_lsp(), space,
+                                     VolumetricEntropy());
+  CHECK(f.values[0] == 0.0);
+  CHECK(f.voxels[0] == 0u);
+  CHECK(f.best == 0);
+}
