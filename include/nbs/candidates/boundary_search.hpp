@@ -1,0 +1,73 @@
+#pragma once
+/// \file
+/// Boundary Search (Secs. 4.2–4.3): one scan candidate per boundary of the last scan, from the surface trend beside
+/// the boundary.
+
+#include <numbers>
+
+#include "nbs/candidates/candidate_generator.hpp"
+#include "nbs/candidates/detail/boundary_candidate.hpp"
+
+namespace nbs {
+
+/// Boundary Search generator (models CandidateGenerator). Per boundary of detect_boundaries (Alg. 1):
+/// region growing from c_b (Eq. 4.4) inside the Sec. 4.2.2 box in the last sensor frame; weighted quadratic patch
+/// (Eqs. 4.5–4.11, weights boundary_distance_weight with scale R_m); walk along the patch in the Tab. 4.2
+/// direction until the overlap o = `Parameters::scan_overlap` (Eq. 4.14) is reached, the viewing direction turns by
+/// more than `max_step_angle_rad` between consecutive steps, or the walk exceeds l_b; viewpoint by Eqs. 4.13,
+/// 4.15–4.18 at d_s; sharp-corner rule (Eqs. 4.19–4.21: λ2, λ3 ≤ `planar_eigenvalue_max` and c_b inside the FOV of
+/// the last scan → rotate by `sharp_corner_rotation_rad` about the boundary line through c_b, towards the unknown
+/// side); line sensors get a path along s_y over the extent of the whole mesh (Fig. 4.9), area sensors a single
+/// viewpoint. Candidates are in boundary order. Thread-safety: const, no shared state.
+class BoundarySearch {
+public:
+  using Setting = BoundarySearchSetting;
+
+  BoundarySearch() = default;
+  explicit BoundarySearch(const Setting& s) : setting_((s.validate(), s)) {}
+  [[nodiscard]] const Setting& setting() const { return setting_; }
+
+  /// Candidates for the boundaries of the last scan. Throws InvalidArgument on an invalid context.
+  /// Status: empty_mesh (no triangle), no_boundaries, all_rejected (no patch could be fitted), else ok.
+  template <EdgeMesh Mesh, PlanningSpace Space>
+  [[nodiscard]] CandidateSet generate(const PlanningContext<Mesh, Space>& ctx) const {
+    ctx.validate();
+    setting_.validate();
+    CandidateSet out;
+    if (ctx.mesh.face_count() == 0) {
+      out.status = CandidateStatus::empty_mesh;
+      return out;
+    }
+    const std::vector<Boundary> boundaries = detect_boundaries(ctx.mesh, ctx.last_sensor, ctx.params);
+    out.considered = boundaries.size();
+    if (boundaries.empty()) {
+      out.status = CandidateStatus::no_boundaries;
+      return out;
+    }
+    const detail::MeshTopology topo = detail::mesh_topology(ctx.mesh);
+    detail::BoundarySearchFrame f;
+    f.t_ws = ctx.last_sensor;
+    f.t_sw = ctx.last_sensor.inverse(Eigen::Isometry);
+    f.standoff_m = ctx.standoff();
+    f.last_path_length_m = ctx.last_path_length_m;
+    f.sensor = ctx.sensor;
+    for (VertexId v = 0; v < topo.triangulated.size(); ++v) {
+      if (!topo.triangulated[v]) continue;
+      f.world_vertices.push_back(ctx.mesh.position(v));
+      f.sensor_extent.extend(f.t_sw * f.world_vertices.back());
+    }
+    for (std::size_t i = 0; i < boundaries.size(); ++i) {
+      if (auto c = detail::boundary_candidate(ctx.mesh, topo, boundaries[i], i, f, ctx.params, setting_))
+        out.candidates.push_back(std::move(*c));
+      else
+        ++out.rejected;
+    }
+    out.status = out.candidates.empty() ? CandidateStatus::all_rejected : CandidateStatus::ok;
+    return out;
+  }
+
+private:
+  Setting setting_{};
+};
+
+}  // namespace nbs
