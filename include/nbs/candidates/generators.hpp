@@ -1,0 +1,6 @@
+#pragma once
+/// \file Convenience header: the CandidateGenerator concept and its models (Boundary Search, Hole Rescan, sphere).
+#include "nbs/candidates/boundary_search.hpp"
+#include "nbs/candidates/candidate_generator.hpp"
+#include "nbs/candidates/hole_rescan.hpp"
+#include "nbs/candidates/sphere_generator.hpp"
