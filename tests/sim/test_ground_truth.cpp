@@ -15,14 +15,20 @@ TEST_CASE("GroundTruth composes samples, completeness, ē and c_obs", "[sim][gro
   CHECK(gt.samples().size() == static_cast<std::size_t>(std::ceil(cube.area() * set.sample_density_per_m2)));
   CHECK(gt.setting().completeness_radius_m == Parameters{}.completeness_radius_m);
 
-  // A model of the top face only: c_a = top share of the non-bottom samples (exact count), c_b of all samples.
+  // A model of the top face only (2 mm grid); oracle: brute-force count of samples within r of a model point.
   std::vector<Vec3> model;
-  for (double x = 0; x <= 0.05; x += 0.001)
-    for (double y = 0; y <= 0.05; y += 0.001) model.emplace_back(x, y, 0.05);
-  std::size_t top_oracle = 0;
-  for (const Vec3& p : gt.samples().points) top_oracle += (p.z() > 0.05 - 0.003 - 1e-12) ? 1 : 0;
+  for (int i = 0; i <= 25; ++i)
+    for (int j = 0; j <= 25; ++j) model.emplace_back(0.002 * i, 0.002 * j, 0.05);
+  const double r = gt.setting().completeness_radius_m;
+  std::size_t oracle = 0;
+  for (const Vec3& p : gt.samples().points) {
+    bool hit = false;
+    for (const Vec3& v : model) hit = hit || (v - p).squaredNorm() <= r * r;
+    oracle += hit ? 1 : 0;
+  }
   const Completeness c = gt.completeness(model);
-  CHECK(c.covered == top_oracle);
+  CHECK(c.covered == oracle);
+  CHECK(c.covered > 500);  // at least the top face (a sixth of 3000 samples)
   CoverageTracker tracker = gt.tracker();
   tracker.add(model);
   CHECK(tracker.completeness().covered == c.covered);
