@@ -24,7 +24,10 @@ TEST_CASE("voxel entropy (Eq. 4.32 summand) and quality (Eq. 4.33)", "[utility]"
   CHECK_THROWS_AS(nbs::voxel_entropy(1.5), nbs::InvalidArgument);
 
   const double cut = 70.0 * std::numbers::pi / 180.0;
-  CHECK(nbs::voxel_quality(0.4, 0.6, 0.1, 0.7, cut) == Approx(0.7 * 0.4 + 0.3 * 0.6));
-  CHECK(nbs::voxel_quality(0.4, 0.6, cut, 0.7, cut) == 0.0);  // θ ≥ 70°: no quality
-  CHECK(nbs::weighted_utility(0.8, 0.3, 0.25) == Approx(0.75 * 0.8 + 0.25 * 0.7));
+  CHECK(nbs::voxel_quality(0.4, 0.6, 0.7) == Approx(0.7 * 0.6 + 0.3 * 0.6));
+  CHECK(nbs::voxel_quality(0.0, 1.0, 0.7) == 1.0);  // complete and dense: perfect quality
+  CHECK(nbs::voxel_quality(1.0, 0.0, 0.7) == 0.0);  // all border edges, no density: none
+  CHECK(nbs::voxel_rescan_value(0.4, 0.6, 0.1, 0.7, cut) == Approx(1.0 - (0.7 * 0.6 + 0.3 * 0.6)));
+  CHECK(nbs::voxel_rescan_value(0.4, 0.6, cut, 0.7, cut) == 0.0);  // θ ≥ 70°: re-scan is worthless
+  CHECK(nbs::weighted_utility(0.8, 0.3, 0.25) == Approx(0.75 * 0.8 + 0.25 * 0.3));
 }

@@ -169,7 +169,7 @@ TEST_CASE("entropy e_v (Eq. 4.32) against a hand-computed grid", "[utility][thes
   CHECK(ev.value() == Approx((7 * H(0.4) + H(0.7) + 10) / 986.0));
 }
 
-TEST_CASE("surface quality q_s (Eqs. 4.33-4.34): λ, incidence cut-off, normalisation", "[utility][thesis]") {
+TEST_CASE("surface modeling part Σ(1 − q_i)/N_v (Eqs. 4.33-4.34): λ, incidence cut-off, normalisation", "[utility][thesis]") {
   const double deg = std::numbers::pi / 180.0;
   SurfaceFeatures f;
   f.border_share = 0.4f;
@@ -190,7 +190,7 @@ TEST_CASE("surface quality q_s (Eqs. 4.33-4.34): λ, incidence cut-off, normalis
     q.end_ray({true, 2});
     return q.value();
   };
-  const double qi = 0.7 * 0.4f + 0.3 * 0.6f;
+  const double qi = 1.0 - (0.7 * (1.0 - 0.4f) + 0.3 * 0.6f);  // 1 − q_i, q_i = λ(1 − b_i) + (1 − λ)d̄_i
   CHECK(q_for({-1, 0, 0}) == Approx(qi / 10));                       // head-on, θ = 0
   CHECK(q_for({-0.5f, 0, 0}) == Approx(qi / 10));                    // |n̄| < 1 is normalised
   const auto at = [](double t) { return Eigen::Vector3f(float(-std::cos(t)), float(std::sin(t)), 0); };
@@ -213,19 +213,19 @@ TEST_CASE("weighted utility combines e_v and q_s from one cast (Eq. 4.30)", "[ut
   for (auto& v : ray) v.direction = Vec3(1, 0, 0);
   ray[2].features = &f;
   const double n_v = 4.0;
-  const double ev = (H(0.5) + H(0.4) + H(0.97)) / n_v, qs = (0.7 * 1.0 + 0.3 * 0.5) / n_v;
+  const double ev = (H(0.5) + H(0.4) + H(0.97)) / n_v, ms = (1.0 - (0.7 * (1.0 - 1.0) + 0.3 * 0.5)) / n_v;
   for (double n_s : {0.0, 2.0, 5.0, 12.0}) {
     const WeightedUtility w(WeightedUtility::thesis(n_v, n_s));
     const double omega = n_s / (n_s + 5.0);
     CHECK(w.omega() == Approx(omega));
-    CHECK(feed(w, {{ray, true}}) == Approx((1 - omega) * ev + omega * (1 - qs)));
+    CHECK(feed(w, {{ray, true}}) == Approx((1 - omega) * ev + omega * ms));
   }
   WeightedUtility::Setting s;
   s.non_free_voxels = n_v;
   s.omega = 0.0;  // IG
   CHECK(feed(WeightedUtility(s), {{ray, true}}) == Approx(ev));
   s.omega = 1.0;  // Quality
-  CHECK(feed(WeightedUtility(s), {{ray, true}}) == Approx(1 - qs));
+  CHECK(feed(WeightedUtility(s), {{ray, true}}) == Approx(ms));
   s.omega = 1.5;
   CHECK_THROWS_AS(WeightedUtility(s), InvalidArgument);
 }

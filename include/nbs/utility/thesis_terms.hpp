@@ -57,8 +57,10 @@ private:
   double sum_ = 0.0;
 };
 
-/// Surface quality q_s of a candidate, Eqs. (4.33)–(4.34): Σ q_i / N_v over the crossed voxels that carry surface
-/// features, q_i = λ·b_i + (1−λ)·d̄_i if the incidence angle θ (`incidence_angle_rad`) is below the cut-off, else 0.
+/// Surface-quality (modeling) part m_s of a candidate, Eqs. (4.33)–(4.34): Σ (1 − q_i) / N_v over the crossed
+/// voxels that carry surface features and are seen with incidence θ (`incidence_angle_rad`) below the cut-off, with
+/// q_i = λ·(1 − b_i) + (1 − λ)·d̄_i (see `voxel_quality` for why b_i enters as 1 − b_i). High m_s: the candidate
+/// re-scans incomplete or sparsely sampled surface.
 class SurfaceQuality {
 public:
   struct Setting {
@@ -80,13 +82,13 @@ public:
   void visit(const VoxelVisit& v) {
     if (v.features == nullptr || !(v.first_visit || !setting_.count_once)) return;
     const SurfaceFeatures& f = *v.features;
-    sum_ += voxel_quality(f.border_share, f.mean_density, incidence_angle_rad(v.direction, f.mean_normal),
-                          setting_.lambda, setting_.cutoff_rad);
+    sum_ += voxel_rescan_value(f.border_share, f.mean_density, incidence_angle_rad(v.direction, f.mean_normal),
+                               setting_.lambda, setting_.cutoff_rad);
   }
   void end_ray(const RayEnd&) {}
-  /// q_s, Eq. (4.34).
+  /// m_s = Σ (1 − q_i) / N_v (Eq. 4.34 normalisation).
   [[nodiscard]] double value() const { return sum_ / setting_.non_free_voxels; }
-  /// The unnormalised sum Σ q_i.
+  /// The unnormalised sum Σ (1 − q_i).
   [[nodiscard]] double sum() const { return sum_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
 
@@ -95,9 +97,8 @@ private:
   double sum_ = 0.0;
 };
 
-/// f_utility = (1 − ω)·e_v + ω·(1 − q_s), Eq. (4.30), from one cast feeding e_v and q_s. ω = ω(n_s) of Eq. (4.31)
-/// for the thesis's IG/Quality selection; ω = 0 gives IG and ω = 1 Quality (Sec. 4.7).
-/// Note (literal reading): a candidate that sees no surface voxel has q_s = 0 and so the largest modeling part.
+/// f_utility = (1 − ω)·e_v + ω·m_s, Eq. (4.30) (see `weighted_utility`), from one cast feeding e_v and m_s.
+/// ω = ω(n_s) of Eq. (4.31) for the thesis's IG/Quality selection; ω = 0 gives IG and ω = 1 Quality (Sec. 4.7).
 class WeightedUtility {
 public:
   struct Setting {
@@ -127,9 +128,9 @@ public:
   void begin_ray() { terms_.begin_ray(); }
   void visit(const VoxelVisit& v) { terms_.visit(v); }
   void end_ray(const RayEnd& e) { terms_.end_ray(e); }
-  [[nodiscard]] double value() const { return weighted_utility(entropy(), quality(), omega_); }
+  [[nodiscard]] double value() const { return weighted_utility(entropy(), modeling(), omega_); }
   [[nodiscard]] double entropy() const { return terms_.get<0>().value(); }  ///< e_v, Eq. (4.32)
-  [[nodiscard]] double quality() const { return terms_.get<1>().value(); }  ///< q_s, Eq. (4.34)
+  [[nodiscard]] double modeling() const { return terms_.get<1>().value(); }  ///< m_s = Σ(1 − q_i)/N_v, Eq. (4.34)
   [[nodiscard]] double omega() const { return omega_; }
 
 private:

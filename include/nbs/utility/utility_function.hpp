@@ -24,18 +24,28 @@ namespace nbs {
   return h(p) + h(1.0 - p);
 }
 
-/// Surface quality q_i of a voxel, Eq. (4.33): λ·b_i + (1−λ)·d̄_i if the incidence angle θ between the simulated
-/// ray and the voxel's mean normal is below `cutoff_rad` (70° in the thesis), else 0.
-/// `border_share` b_i ∈ [0,1] (Eq. 4.28), `mean_density` d̄_i ∈ [0,1] (Eq. 4.26), `incidence_rad` θ ∈ [0, π].
-[[nodiscard]] inline double voxel_quality(double border_share, double mean_density, double incidence_rad,
-                                          double lambda, double cutoff_rad) {
-  return incidence_rad < cutoff_rad ? lambda * border_share + (1.0 - lambda) * mean_density : 0.0;
+/// Surface quality q_i of a voxel, Eq. (4.33) as the text means it: q_i = λ·(1 − b_i) + (1 − λ)·d̄_i ∈ [0, 1].
+/// `border_share` b_i ∈ [0,1] (Eq. 4.28) measures *incompleteness* ("for a complete mesh no border edges should
+/// exist") and `mean_density` d̄_i ∈ [0,1] (Eq. 4.26) sampling sufficiency, so a complete, densely sampled voxel has
+/// q_i = 1. (Eq. 4.33 printed literally adds λ·b_i, rewarding border edges as quality; together with Eq. 4.30's
+/// ω·(1 − q_s) that gives the highest modeling value to a candidate that sees no surface at all. We follow the
+/// text: "the 3D modeling part chooses an NBS which views previously scanned voxels with poor mesh quality".)
+[[nodiscard]] inline double voxel_quality(double border_share, double mean_density, double lambda) {
+  return lambda * (1.0 - border_share) + (1.0 - lambda) * mean_density;
 }
 
-/// f_utility = (1 − ω)·e_v + ω·(1 − q_s), Eq. (4.30). e_v (Eq. 4.32) and q_s (Eq. 4.34) are already normalised by
-/// the number of non-free voxels N_v.
-[[nodiscard]] inline double weighted_utility(double entropy_ev, double quality_qs, double omega) {
-  return (1.0 - omega) * entropy_ev + omega * (1.0 - quality_qs);
+/// Modeling value of seeing voxel i with incidence angle θ: 1 − q_i if θ < `cutoff_rad` (70° in the thesis, Sec.
+/// 4.5.3), else 0 ("a re-scan will not increase the quality due to the large angle of incidence").
+[[nodiscard]] inline double voxel_rescan_value(double border_share, double mean_density, double incidence_rad,
+                                               double lambda, double cutoff_rad) {
+  return incidence_rad < cutoff_rad ? 1.0 - voxel_quality(border_share, mean_density, lambda) : 0.0;
+}
+
+/// f_utility = (1 − ω)·e_v + ω·m_s, Eq. (4.30), where m_s = Σ_i (1 − q_i) / N_v over the surface voxels the
+/// candidate sees below the incidence cut-off — Eq. 4.30's "(1 − q_s)" evaluated per viewed voxel (Eq. 4.34's
+/// normalisation by N_v), so a candidate that sees no surface gets no modeling value. e_v is Eq. (4.32).
+[[nodiscard]] inline double weighted_utility(double entropy_ev, double modeling_ms, double omega) {
+  return (1.0 - omega) * entropy_ev + omega * modeling_ms;
 }
 
 }  // namespace nbs
