@@ -297,11 +297,25 @@ private:
     if (!detail::clip_segment(a, e, voxel_bounds_, t0, t1)) return;  // cannot happen: b.end is inside
     const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds_), to = detail::point_in_box(a, e, t1, voxel_bounds_);
     const VoxelKey end_key = *grid_.key_of(b.end);
-    walk(from, to, true, st, [&](State& s, const VoxelKey& k, bool) {
+    const auto update = [&](State& s, const VoxelKey& k, bool) {
       const bool is_end = k == end_key;
       const double offset = is_end ? 0.0 : (grid_.center(k) - b.origin).dot(b.dir) - b.range_m;
       return model_.update_band(s, b.beam, offset, is_end);
-    });
+    };
+    if constexpr (kNative) {
+      if (grid_.key_of(from) == grid_.key_of(to)) {  // the band lies inside the end voxel: no walk needed
+        auto& blk = backend_.block(Backend::block_id(end_key));
+        const int i = Backend::local_index(end_key);
+        if (blk.stamp[i] == epoch_) {
+          ++st.voxels_same_scan;
+          return;
+        }
+        blk.stamp[i] = epoch_;
+        count(update(blk.state[i], end_key, true), st, [&] { backend_.note_observed(blk, i); });
+        return;
+      }
+    }
+    walk(from, to, true, st, update);
   }
 
   void free_pass(const BeamRecord& b, IntegrationStats& st) {

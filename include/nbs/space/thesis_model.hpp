@@ -160,7 +160,9 @@ public:
       px = qx;
       py = qy;
     }
-    const auto q = [](double v) { return static_cast<std::uint16_t>(std::lround(std::clamp(v, -1.0, 1.0) * 127.0 + 127.0)); };
+    const auto q = [](double v) {  // round to nearest of 0..254 (argument ≥ 0, so truncation of x + 0.5 rounds)
+      return static_cast<std::uint16_t>(std::clamp(v, -1.0, 1.0) * 127.0 + 127.5);
+    };
     return static_cast<std::uint16_t>(q(px) | (q(py) << 8));
   }
 
@@ -179,8 +181,8 @@ private:
       s.surf = static_cast<std::int16_t>(std::min(32767, s.surf + e));
     } else {
       s.free = static_cast<std::int16_t>(std::max(-32767, s.free + e));
-      // Eq. 3.6, updated only when the voxel is measured free.
-      s.spec = static_cast<std::uint8_t>(std::min(255.0, std::round(s.surf * spec_per_unit_)));
+      // Eq. 3.6, updated only when the voxel is measured free (surf ≥ 0, so spec stays 0 without surface evidence).
+      if (s.surf > 0) s.spec = static_cast<std::uint8_t>(std::min(255.0, std::round(s.surf * spec_per_unit_)));
     }
   }
 

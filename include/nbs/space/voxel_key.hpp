@@ -103,9 +103,11 @@ public:
   [[nodiscard]] std::optional<VoxelKey> key_of(const Vec3& p) const {
     VoxelKey k;
     for (int a = 0; a < 3; ++a) {
-      const double f = std::floor(inverse_ * p[a]);
-      if (!(f >= VoxelKey::kMinIndex && f <= VoxelKey::kMaxIndex)) return std::nullopt;  // also rejects NaN
-      k[a] = static_cast<std::int32_t>(f);
+      const double f = inverse_ * p[a];
+      // floor(f) ∈ [kMinIndex, kMaxIndex] ⇔ kMinIndex ≤ f < kMaxIndex + 1; also rejects NaN.
+      if (!(f >= VoxelKey::kMinIndex && f < VoxelKey::kMaxIndex + 1.0)) return std::nullopt;
+      const auto t = static_cast<std::int32_t>(f);  // truncation; floor without a libm call
+      k[a] = t - (static_cast<double>(t) > f ? 1 : 0);
     }
     return k;
   }

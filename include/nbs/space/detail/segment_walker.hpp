@@ -6,7 +6,7 @@
 /// voxels the *quantised* segment crosses, in order, from the voxel containing the start to the one containing the
 /// end. Crossing times t_a = N_a / A_a (N_a: distance to the next boundary along axis a, A_a = |Δ_a|) are compared
 /// by cross-multiplication; the six products N_a·A_b are kept incrementally, so a step costs a few integer adds and
-/// compares. Ties (the segment passes exactly through a voxel edge or corner) step the lowest axis first. The number
+/// compares. Ties (the segment passes exactly through a voxel edge or corner) step the higher axis first. The number
 /// of steps is exactly Σ_a |end_key_a − start_key_a|, so the loop always terminates.
 /// Overflow: |coordinate| < 2^20 voxels ⇒ N_a < 2^32, A_b < 2^31 ⇒ products < 2^63.
 
@@ -55,6 +55,8 @@ public:
         prod_[a][b] = next_[a] * abs_[b];
         inc_[a][b] = kOne * abs_[b];
       }
+    for (int a = 0; a < 3; ++a)
+      if (remaining_[a] == 0) exhaust(a);
   }
 
   /// Current voxel.
@@ -66,17 +68,29 @@ public:
 
   /// Moves to the next voxel and returns the axis crossed. Precondition: remaining() > 0.
   int step() {
-    int best = -1;
-    for (int a = 0; a < 3; ++a)
-      if (remaining_[a] > 0 && (best < 0 || prod_[a][best] < prod_[best][a])) best = a;
+    // t_a < t_b ⇔ N_a·A_b < N_b·A_a; ties go to the later axis. Exhausted axes never win (see exhaust()).
+    int best = prod_[0][1] < prod_[1][0] ? 0 : 1;
+    if (prod_[2][best] <= prod_[best][2]) best = 2;
     key_[best] += sign_[best];
-    --remaining_[best];
     --total_;
     for (int b = 0; b < 3; ++b) prod_[best][b] += inc_[best][b];
+    if (--remaining_[best] == 0) exhaust(best);
     return best;
   }
 
 private:
+  static constexpr std::int64_t kNever = std::int64_t{1} << 62;
+  // Axis a has no crossing left: make every comparison against it lose (its products +2^62, the others' −2^62;
+  // real products and their growth stay below 2^62 in magnitude, so the order is kept).
+  void exhaust(int a) {
+    for (int b = 0; b < 3; ++b) {
+      if (b == a) continue;
+      prod_[a][b] = kNever;
+      prod_[b][a] = -kNever;
+      inc_[b][a] = 0;
+    }
+  }
+
   VoxelKey key_;
   int sign_[3] = {0, 0, 0};
   std::int32_t remaining_[3] = {0, 0, 0};
