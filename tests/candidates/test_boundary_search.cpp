@@ -113,7 +113,6 @@ TEST_CASE("sharp-corner rule triggers on a box edge and not on a sphere (Eqs. 4.
   }
   SECTION("sphere: curved boundary region -> no rotation") {
     nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.04);
-    nbs::test::StripeSensor wide;
     Scanned s(sphere, nbs::test::down_at(0, 0.07, 0.2), 0.14);
     const auto set = nbs::BoundarySearch{}.generate(s.context());
     REQUIRE(set.status == nbs::CandidateStatus::ok);

@@ -19,25 +19,16 @@ namespace nbs {
 /// the last scan → rotate by `sharp_corner_rotation_rad` about the boundary line through c_b, towards the unknown
 /// side); line sensors get a path along s_y over the extent of the whole mesh (Fig. 4.9), area sensors a single
 /// viewpoint. Candidates are in boundary order. Thread-safety: const, no shared state.
-class BoundarySearch {
+class BoundarySearch : public detail::GeneratorWithSetting<BoundarySearchSetting> {
 public:
-  using Setting = BoundarySearchSetting;
-
-  BoundarySearch() = default;
-  explicit BoundarySearch(const Setting& s) : setting_((s.validate(), s)) {}
-  [[nodiscard]] const Setting& setting() const { return setting_; }
+  using GeneratorWithSetting::GeneratorWithSetting;
 
   /// Candidates for the boundaries of the last scan. Throws InvalidArgument on an invalid context.
   /// Status: empty_mesh (no triangle), no_boundaries, all_rejected (no patch could be fitted), else ok.
   template <EdgeMesh Mesh, PlanningSpace Space>
   [[nodiscard]] CandidateSet generate(const PlanningContext<Mesh, Space>& ctx) const {
-    ctx.validate();
-    setting_.validate();
+    if (auto empty = check_mesh(ctx)) return std::move(*empty);
     CandidateSet out;
-    if (ctx.mesh.face_count() == 0) {
-      out.status = CandidateStatus::empty_mesh;
-      return out;
-    }
     const std::vector<Boundary> boundaries = detect_boundaries(ctx.mesh, ctx.last_sensor, ctx.params);
     out.considered = boundaries.size();
     if (boundaries.empty()) {
@@ -66,8 +57,6 @@ public:
     return out;
   }
 
-private:
-  Setting setting_{};
 };
 
 }  // namespace nbs

@@ -3,6 +3,7 @@
 /// The CandidateGenerator concept: a policy that turns a planning context into scan candidates (Sec. 4.3, 4.4).
 
 #include <concepts>
+#include <optional>
 
 #include "nbs/candidates/planning_context.hpp"
 #include "nbs/candidates/scan_candidate.hpp"
@@ -19,4 +20,31 @@ concept CandidateGenerator =
       { g.generate(ctx) } -> std::same_as<CandidateSet>;
     };
 
+namespace detail {
+
+/// Common part of the generators: owns a validated `Setting` (a struct with `validate()`).
+template <class S>
+class GeneratorWithSetting {
+public:
+  using Setting = S;
+  GeneratorWithSetting() = default;
+  /// Throws InvalidArgument if `s` is invalid.
+  explicit GeneratorWithSetting(const Setting& s) : setting_((s.validate(), s)) {}
+  [[nodiscard]] const Setting& setting() const { return setting_; }
+
+protected:
+  /// Validates `ctx` and the setting; returns a set with status empty_mesh if the mesh has no triangle.
+  template <class Ctx>
+  [[nodiscard]] std::optional<CandidateSet> check_mesh(const Ctx& ctx) const {
+    ctx.validate();
+    setting_.validate();
+    if (ctx.mesh.face_count() != 0) return std::nullopt;
+    CandidateSet out;
+    out.status = CandidateStatus::empty_mesh;
+    return out;
+  }
+  Setting setting_{};
+};
+
+}  // namespace detail
 }  // namespace nbs

@@ -51,23 +51,15 @@ struct HoleView {
 /// the half extent from the middle, at d_s along n_h. For a single hole with d_h ⊥ n_h this is exactly Eqs.
 /// 4.22–4.23 (otherwise d_h is projected so the path moves along s_y). Area sensors: one viewpoint at c + d_s n_h.
 /// Deterministic. Thread-safety: const.
-class HoleRescan {
+class HoleRescan : public detail::GeneratorWithSetting<HoleRescanSetting> {
 public:
-  using Setting = HoleRescanSetting;
-  HoleRescan() = default;
-  explicit HoleRescan(const Setting& s) : setting_((s.validate(), s)) {}
-  [[nodiscard]] const Setting& setting() const { return setting_; }
+  using GeneratorWithSetting::GeneratorWithSetting;
 
   /// Status: empty_mesh, no_holes, all_rejected (every hole occluded in every sampled direction), else ok.
   template <EdgeMesh Mesh, PlanningSpace Space>
   [[nodiscard]] CandidateSet generate(const PlanningContext<Mesh, Space>& ctx) const {
-    ctx.validate();
-    setting_.validate();
+    if (auto empty = check_mesh(ctx)) return std::move(*empty);
     CandidateSet out;
-    if (ctx.mesh.face_count() == 0) {
-      out.status = CandidateStatus::empty_mesh;
-      return out;
-    }
     const std::vector<Hole> holes = find_holes(ctx.mesh, ctx.params);
     out.considered = holes.size();
     if (holes.empty()) {
@@ -171,7 +163,6 @@ private:
     return cand;
   }
 
-  Setting setting_{};
 };
 
 }  // namespace nbs

@@ -11,12 +11,9 @@ namespace nbs {
 /// the bounding box of the unknown area (Sec. 4.1). Radius = d_s + half the largest box extent, so a surface at the
 /// box's half extent from the centre is seen at d_s (our choice; the thesis gives none). The aim of each candidate is
 /// that point, centre − half·s_z. Independent of mesh and voxel space. Thread-safety: const.
-class SphereSearch {
+class SphereSearch : public detail::GeneratorWithSetting<SphereSearchSetting> {
 public:
-  using Setting = SphereSearchSetting;
-  SphereSearch() = default;
-  explicit SphereSearch(const Setting& s) : setting_((s.validate(), s)) {}
-  [[nodiscard]] const Setting& setting() const { return setting_; }
+  using GeneratorWithSetting::GeneratorWithSetting;
 
   /// Status: empty_unknown_area if ctx.unknown_area is empty, else ok (inclinations × azimuths candidates).
   template <EdgeMesh Mesh, PlanningSpace Space>
@@ -45,8 +42,6 @@ public:
     return out;
   }
 
-private:
-  Setting setting_{};
 };
 
 }  // namespace nbs
