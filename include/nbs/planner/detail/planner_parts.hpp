@@ -1,0 +1,73 @@
+#pragma once
+/// \file
+/// Construction helpers of NbsPlanner: the voxel space (thesis model with the sensor's σ(d)), the termination
+/// criterion and the collision checker from Parameters; scan bookkeeping.
+
+#include <algorithm>
+#include <concepts>
+#include <memory>
+
+#include "nbs/planner/detail/components.hpp"
+
+namespace nbs::detail {
+
+/// The voxel space of the planner: l_v = params.voxel_size_m over the bounding box of the unknown area. A
+/// ThesisModel space gets σ(d) of the sensor's noise (clamped to ≥ 10 µm, the model needs σ > 0); any other
+/// space is built as Space(l_v, box).
+/// True if Space(l_v, box, ThesisModel) exists and its model() is a ThesisModel.
+template <class Space>
+concept ThesisModelSpace =
+    std::constructible_from<Space, double, const Aabb&, ThesisModel> && requires(const Space& s) {
+      { s.model() } -> std::convertible_to<const ThesisModel&>;
+    };
+
+template <class Space, class Sensor>
+[[nodiscard]] std::unique_ptr<Space> make_planner_space(const Parameters& params, const Aabb& box,
+                                                        const Sensor& sensor) {
+  if constexpr (ThesisModelSpace<Space> && requires { sensor.noise.sigma_m(1.0); }) {
+    ThesisModel::Setting st;
+    const auto noise = sensor.noise;
+    st.sigma_m = [noise](double d) { return std::max(noise.sigma_m(d), 1e-5); };
+    return std::make_unique<Space>(params.voxel_size_m, box, ThesisModel(st));
+  } else {
+    return std::make_unique<Space>(params.voxel_size_m, box);
+  }
+}
+
+/// The termination criterion from Parameters: DefaultTermination by default_termination(params), else
+/// Termination(params) if that exists, else Termination{}.
+template <class Termination>
+[[nodiscard]] Termination make_termination(const Parameters& params) {
+  if constexpr (std::same_as<Termination, DefaultTermination>) {
+    return default_termination(params);
+  } else if constexpr (std::constructible_from<Termination, const Parameters&>) {
+    return Termination(params);
+  } else {
+    return Termination{};
+  }
+}
+
+/// The collision checker: Collision{} if default-constructible, else Collision(space, Collision::Setting{})
+/// (e.g. VoxelCollisionChecker, which borrows the planner's space; the space lives on the heap, so it stays put).
+template <class Collision, class Space>
+[[nodiscard]] Collision make_collision(const Space& space) {
+  if constexpr (std::default_initializable<Collision>) {
+    return Collision{};
+  } else {
+    static_assert(std::constructible_from<Collision, const Space&, typename Collision::Setting>,
+                  "NbsPlanner: the collision checker must be default-constructible or constructible from "
+                  "(const Space&, Collision::Setting)");
+    return Collision(space, typename Collision::Setting{});
+  }
+}
+
+/// Throws InvalidArgument unless `box` is a finite, non-empty box with positive extent on every axis.
+inline void require_unknown_area(const Aabb& box) {
+  require(!box.empty() && box.min.allFinite() && box.max.allFinite(),
+          "bounding box of the unknown area must be finite and non-empty, got min (", box.min.transpose(), ") max (",
+          box.max.transpose(), ")");
+  require((box.extent().array() > 0.0).all(), "bounding box of the unknown area must have extent > 0 on every axis, ",
+          "got (", box.extent().transpose(), ")");
+}
+
+}  // namespace nbs::detail

@@ -1,0 +1,312 @@
+#pragma once
+/// \file
+/// NbsPlanner: the Next-Best-Scan planner of Fig. 4.1 composed from policies at compile time — voxel space (Sec.
+/// 3.3.2), streaming mesh (Sec. 3.3.1), candidate search (Boundary Search Secs. 4.2–4.3, Hole Rescan Sec. 4.4,
+/// sphere Sec. 4.7.2), replanning (Alg. 3), utility (Sec. 4.5.3), termination and process control (Sec. 4.6).
+///
+/// Use: `NbsPlanner<> p(params, presets::dlr_lsp(), unknown_area);` then, per scan, `p.integrate(scan)` and
+/// `p.next_best_scan()` until `p.done()`. Frames: world (types.hpp), metres, seconds.
+/// Thread-safety: not thread-safe; only candidate evaluation runs on `setting().threads` std::threads, and its
+/// result is identical for any thread count (so is every plan: the rest is sequential and deterministic).
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "nbs/planner/detail/components.hpp"
+#include "nbs/planner/detail/planner_parts.hpp"
+#include "nbs/planner/planner_types.hpp"
+#include "nbs/planner/search_policy.hpp"
+#include "nbs/planner/utility_policy.hpp"
+#include "nbs/sim/detail/random.hpp"
+
+namespace nbs {
+
+/// A voxel space the planner can own: integrate scans, ray-cast for generators, replanning and utilities, and
+/// store surface features. ProbabilisticVoxelSpace models it.
+template <class S>
+concept PlannerSpace = PlanningSpace<S> && UtilityPlanningSpace<S> && FeatureSpace<S> &&
+                       requires(S& s, const Scan& scan) { s.integrate(scan); };
+
+/// A mesh the planner can own: an EdgeMesh with relative density (d̄_m), current-scan tracking (M_cur) and
+/// `integrate(scan)` returning the number of meshed points, built as Mesh(params, unknown_area) (pass-through box).
+/// StreamingMesh models it.
+template <class M>
+concept PlannerMesh = DensityMesh<M> && TracksCurrentScan<M> && std::constructible_from<M, const Parameters&, const Aabb&> &&
+                      requires(M& m, const Scan& scan) {
+  { m.integrate(scan) } -> std::convertible_to<std::size_t>;
+};
+
+/// A sensor the planner can plan for: candidate rays can be simulated and SensorGeometry::of describes it.
+template <class S>
+concept PlannerSensor = CandidateRaySensor<S> && requires(const S& s) {
+  { SensorGeometry::of(s) } -> std::same_as<SensorGeometry>;
+};
+
+/// The composed Next-Best-Scan planner. Policies (defaults = the thesis's best method C_H, Tab. 4.5):
+/// - `Space`: voxel space owned by the planner (PlannerSpace);
+/// - `Mesh`: surface mesh owned by the planner (PlannerMesh);
+/// - `Search`: CandidateSearch<Explore, Rescan> (public member `search`);
+/// - `Utility`: UtilityPolicy (public member `utility`, with a `setting`);
+/// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m and d̄_m reached, or n_abort);
+/// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7);
+/// - `Sensor`: LaserStripeProfiler (or AreaSensor).
+template <class Space = ProbabilisticVoxelSpace<>, class Mesh = StreamingMesh, class Search = BoundaryHoleSpace,
+          class Utility = IgQualityUtility, class Termination = DefaultTermination, class Collision = NoCollisions,
+          class Sensor = LaserStripeProfiler>
+  requires PlannerSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&
+           UtilityPolicy<Utility, Space, Sensor> && TerminationCriterion<Termination> &&
+           CollisionChecker<Collision> && PlannerSensor<Sensor>
+class NbsPlanner {
+public:
+  using SpaceType = Space;
+  using MeshType = Mesh;
+  using SearchType = Search;
+  using UtilityType = Utility;
+  using SensorType = Sensor;
+  using Setting = PlannerSetting;
+
+private:
+  // Declared first: the public policies below are initialised from them.
+  Parameters params_;
+  Sensor sensor_;
+  SensorGeometry geometry_;
+  Aabb box_;
+  Setting setting_;
+  std::unique_ptr<Space> space_;
+  std::unique_ptr<Mesh> mesh_;
+
+public:
+  /// Builds empty models over the bounding box of the unknown area `unknown_area` (world, metres; Sec. 4.1: it
+  /// must contain the whole object, its bottom on the pedestal plane). Throws InvalidArgument (naming the field)
+  /// for invalid parameters, sensor, box or setting.
+  NbsPlanner(const Parameters& params, const Sensor& sensor, const Aabb& unknown_area, const Setting& setting = {})
+      : params_((params.validate(), params)),
+        sensor_((sensor.validate(), sensor)),
+        geometry_(SensorGeometry::of(sensor)),
+        box_((detail::require_unknown_area(unknown_area), unknown_area)),
+        setting_(checked(setting, geometry_)),
+        space_(detail::make_planner_space<Space>(params_, box_, sensor_)),
+        mesh_(std::make_unique<Mesh>(params_, box_)),
+        termination(detail::make_termination<Termination>(params_)),
+        collision(detail::make_collision<Collision>(*space_)),
+        control_(params_.mode_switch_gain) {}
+
+  // ---- Policies (public, each with its own Setting) ---------------------------------------------------------------
+  Search search{};
+  Utility utility{};
+  Termination termination;
+  Collision collision;
+
+  // ---- The loop ----------------------------------------------------------------------------------------------------
+  /// Integrates one scan (Fig. 4.1): voxel space, mesh, surface features of the voxels touched by M_cur (Sec. 4.5.1),
+  /// ĉ_m (Eq. 4.35), d̄_m, process control (Eq. 4.38). Counts the scan (n_s) even if none of its points lies inside
+  /// the bounding box of the unknown area (status says so; the models are then unchanged). Throws InvalidArgument
+  /// (nothing changed) for an invalid scan.
+  IntegrationReport integrate(const Scan& scan);
+
+  /// Plans the next best scan (see PlanStatus): generates candidates for the current mode, replans them with
+  /// Alg. 3, adds them to the candidate set S, scores S with the utility and removes and returns the best. Never
+  /// returns `ok` without a path.
+  [[nodiscard]] PlanResult next_best_scan();
+
+  /// True when the termination criterion holds for (n_s, ĉ_m, d̄_m).
+  [[nodiscard]] bool done() const { return termination.done(progress()); }
+
+  /// A first scan path (Sec. 4.1, 4.7.2): one of the 13 initial paths around the bounding box of the unknown area,
+  /// index random_initial_scan_index(seed), at d_s.
+  [[nodiscard]] LinearScanPath first_scan(std::uint64_t seed) const {
+    return initial_scan(random_initial_scan_index(seed));
+  }
+  /// Initial path `index` ∈ [0, 13) of Sec. 4.7.2 around the bounding box of the unknown area, at d_s.
+  [[nodiscard]] LinearScanPath initial_scan(int index) const { return initial_scan_path(box_, standoff(), index); }
+
+  // ---- State -------------------------------------------------------------------------------------------------------
+  [[nodiscard]] ModelProgress progress() const { return {scans_, coverage_, density_}; }
+  [[nodiscard]] int scans() const { return scans_; }
+  [[nodiscard]] double estimated_coverage() const { return coverage_; }
+  [[nodiscard]] double mean_density() const { return density_; }
+  [[nodiscard]] SearchMode mode() const { return mode_; }
+  [[nodiscard]] const std::vector<ScanCandidate>& candidate_set() const { return pool_; }
+  [[nodiscard]] const IterationStats& last_stats() const { return last_stats_; }
+  [[nodiscard]] const Space& space() const { return *space_; }
+  [[nodiscard]] const Mesh& mesh() const { return *mesh_; }
+  [[nodiscard]] const Parameters& params() const { return params_; }
+  [[nodiscard]] const Sensor& sensor() const { return sensor_; }
+  [[nodiscard]] const SensorGeometry& sensor_geometry() const { return geometry_; }
+  [[nodiscard]] const Aabb& unknown_area() const { return box_; }
+  [[nodiscard]] const Setting& setting() const { return setting_; }
+  /// Replaces the setting (validated first; throws InvalidArgument, nothing changed).
+  void set_setting(const Setting& s) { setting_ = checked(s, geometry_); }
+  /// d_s in metres.
+  [[nodiscard]] double standoff() const { return setting_.standoff_m > 0.0 ? setting_.standoff_m : geometry_.mid_range_m(); }
+
+private:
+  [[nodiscard]] static Setting checked(Setting s, const SensorGeometry& g) {
+    s.validate();
+    const double d = s.standoff_m > 0.0 ? s.standoff_m : g.mid_range_m();
+    detail::require(g.range.contains(d), "PlannerSetting.standoff_m = ", d, " m lies outside the working range [",
+                    g.range.min_m, ", ", g.range.max_m, "]");
+    return s;
+  }
+  [[nodiscard]] PlanningContext<Mesh, Space> context() const {
+    return {*mesh_, *space_, params_, last_sensor_, last_path_length_, geometry_, box_, setting_.standoff_m};
+  }
+  /// Runs Alg. 3 on `fresh` (if enabled), counts, and appends the accepted candidates to S.
+  void admit(std::vector<ScanCandidate> fresh, IterationStats& st);
+  template <class Generator>
+  void generate_into_pool(const Generator& g, IterationStats& st);
+
+  ProcessControl control_;
+  SearchMode mode_ = SearchMode::BoundarySearch;
+  bool rescan_pending_ = false;
+  bool fixed_space_generated_ = false;
+  std::vector<ScanCandidate> pool_;
+  Pose last_sensor_ = Pose::Identity();
+  double last_path_length_ = 0.0;
+  int scans_ = 0;
+  double coverage_ = 0.0;
+  double density_ = 0.0;
+  IterationStats last_stats_{};
+};
+
+// ---- Implementation ------------------------------------------------------------------------------------------------
+
+template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
+  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
+           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
+IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& scan) {
+  const auto t0 = std::chrono::steady_clock::now();
+  scan.validate();
+  IntegrationReport r;
+  r.points = scan.size();
+  for (const Vec3& p : scan.points) r.points_inside += box_.contains(p) ? 1 : 0;
+  ++scans_;
+  if (scan.empty()) {
+    r.status = IntegrationStatus::empty_scan;
+  } else if (r.points_inside == 0) {
+    r.status = IntegrationStatus::outside_unknown_area;
+  } else {
+    r.space = space_->integrate(scan);
+    r.meshed = mesh_->integrate(scan);
+    r.features_written = update_surface_features(*space_, *mesh_, params_);
+    last_sensor_ = scan.profile_poses.front();
+    last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
+    const std::vector<Hole> holes = find_holes(*mesh_, params_);
+    r.holes = holes.size();
+    coverage_ = std::clamp(nbs::estimated_coverage(*mesh_, holes), 0.0, 1.0);
+    density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
+  }
+  // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.
+  const SearchMode proposed = control_.update(coverage_);
+  if constexpr (Se::kHasRescan) {
+    if (proposed == SearchMode::HoleRescan && mode_ == SearchMode::BoundarySearch) {
+      mode_ = SearchMode::HoleRescan;
+      rescan_pending_ = true;
+      r.switched = true;
+    }
+  }
+  r.scans = scans_;
+  r.estimated_coverage = coverage_;
+  r.mean_density = density_;
+  r.mode = mode_;
+  r.done = done();
+  r.t_integrate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
+  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
+           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
+void NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::admit(std::vector<ScanCandidate> fresh, IterationStats& st) {
+  st.generated += fresh.size();
+  if (setting_.replan_candidates && !fresh.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ReplanSetting rs = setting_.replan;
+    rs.incidence_cutoff_rad = params_.incidence_cutoff_rad;
+    const std::vector<ReplanReport> reports = replan_candidates(fresh, *space_, collision, geometry_, rs);
+    for (const ReplanReport& rep : reports) {
+      st.replanned += rep.outcome == ReplanOutcome::rotated ? 1 : 0;
+      st.dropped += rep.accepted() ? 0 : 1;
+    }
+    st.t_replan_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  for (ScanCandidate& c : fresh) pool_.push_back(std::move(c));
+}
+
+template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
+  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
+           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
+template <class Generator>
+void NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::generate_into_pool(const Generator& g, IterationStats& st) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CandidateSet set = g.generate(context());
+  st.generator_status = set.status;
+  st.t_generate_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  admit(std::move(set.candidates), st);
+}
+
+template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
+  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
+           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
+PlanResult NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::next_best_scan() {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult out;
+  IterationStats& st = out.stats;
+  st.scans = scans_;
+  st.estimated_coverage = coverage_;
+  st.mean_density = density_;
+  const auto finish = [&](PlanStatus s) {
+    out.status = s;
+    st.mode = mode_;
+    st.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    last_stats_ = st;
+    return out;
+  };
+  if (done()) return finish(PlanStatus::done);
+  if (mesh_->face_count() == 0) return finish(PlanStatus::nothing_seen_yet);
+
+  if (mode_ == SearchMode::BoundarySearch) {
+    using Explore = typename Se::ExploreGenerator;
+    if (!kFixedCandidateSpace<Explore> || !fixed_space_generated_) {
+      generate_into_pool(search.explore, st);
+      fixed_space_generated_ = true;
+    }
+    if constexpr (Se::kHasRescan) {
+      if (pool_.empty() && setting_.rescan_when_explore_empty) {
+        mode_ = SearchMode::HoleRescan;
+        rescan_pending_ = true;
+      }
+    }
+  }
+  if constexpr (Se::kHasRescan) {
+    if (mode_ == SearchMode::HoleRescan && (rescan_pending_ || (pool_.empty() && setting_.redetect_holes))) {
+      pool_.clear();  // Sec. 4.4: the remaining Boundary Search candidates are discarded
+      generate_into_pool(search.rescan, st);
+      rescan_pending_ = false;
+      control_.mark_holes_detected();
+    }
+  }
+  if (pool_.empty()) return finish(PlanStatus::no_candidates);
+
+  const auto te = std::chrono::steady_clock::now();
+  std::vector<LinearScanPath> paths;
+  paths.reserve(pool_.size());
+  for (const ScanCandidate& c : pool_) paths.push_back(c.path);
+  const UtilityContext uctx{scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))),
+                            &params_};
+  const EvaluationSetting eval{setting_.threads, setting_.sampling};
+  const EvaluationResult res = utility.evaluate(std::span<const LinearScanPath>(paths), sensor_, *space_, uctx, eval);
+  st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
+  st.evaluated = pool_.size();
+  if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
+  st.best_utility = res.values[res.best];
+  out.candidate = std::move(pool_[res.best]);
+  pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(res.best));
+  return finish(PlanStatus::ok);
+}
+
+}  // namespace nbs

@@ -1,0 +1,169 @@
+#pragma once
+/// \file
+/// The compiled runtime facade for CLIs and configuration files: a closed set of methods (thesis Fig. 4.19 codes,
+/// Sec. 4.7) and `RuntimePlanner`, a std::variant over the three precompiled NbsPlanner search spaces whose utility
+/// is chosen at run time (SelectionUtility, one switch over precompiled terms). No string-keyed registration.
+///
+/// | code | selection × search |
+/// |---|---|
+/// | R_S, R_B, R_H | Random × Sphere / Boundary Search / Boundary Search + Hole Rescan |
+/// | I_S, I_B, I_H | IG (ω = 0) × ... |
+/// | Q_S, Q_B, Q_H | Quality (ω = 1) × ... |
+/// | C_S, C_B, C_H | IG/Quality (ω(n_s), Eq. 4.31) × ... |
+/// | OA_H, UV_H, RSV_H, RSE_H, PC_H, AE_H, VG_H | peer metrics (Delmerico et al. 2018; VG: Vasquez-Gomez) × BS+HR |
+
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "nbs/planner/nbs_planner.hpp"
+
+namespace nbs {
+
+/// Search space of Sec. 4.7 (second letter of a method code).
+enum class SearchSpace : std::uint8_t { sphere, boundary, boundary_hole };
+
+/// `S`, `B` or `H`.
+[[nodiscard]] constexpr std::string_view format_search(SearchSpace s) {
+  switch (s) {
+    case SearchSpace::sphere: return "S";
+    case SearchSpace::boundary: return "B";
+    case SearchSpace::boundary_hole: return "H";
+  }
+  return "?";
+}
+
+/// A planning method: selection criterion × search space.
+struct Method {
+  Selection selection = Selection::ig_quality;
+  SearchSpace search = SearchSpace::boundary_hole;
+  friend constexpr bool operator==(const Method&, const Method&) = default;
+};
+
+/// The 12 thesis methods (R, I, Q, C × S, B, H) followed by the 7 peer metrics with BS+HR.
+inline constexpr std::array<Method, 19> kAllMethods = [] {
+  std::array<Method, 19> m{};
+  std::size_t i = 0;
+  for (Selection s : {Selection::random, Selection::information_gain, Selection::quality, Selection::ig_quality})
+    for (SearchSpace g : {SearchSpace::sphere, SearchSpace::boundary, SearchSpace::boundary_hole}) m[i++] = {s, g};
+  for (Selection s : {Selection::occlusion_aware, Selection::unobserved_voxel, Selection::rear_side_voxel,
+                      Selection::rear_side_entropy, Selection::proximity_count, Selection::average_entropy,
+                      Selection::vasquez_gomez})
+    m[i++] = {s, SearchSpace::boundary_hole};
+  return m;
+}();
+
+/// The method code, e.g. "C_H" (Fig. 4.19) or "OA_H".
+[[nodiscard]] inline std::string format_method(const Method& m) {
+  return std::string(format_selection(m.selection)) + "_" + std::string(format_search(m.search));
+}
+
+/// Parses a method code (case-insensitive, surrounding blanks ignored): one of kAllMethods. Throws InvalidArgument
+/// naming the input and listing every valid code otherwise.
+[[nodiscard]] inline Method parse_method(std::string_view code) {
+  while (!code.empty() && std::isspace(static_cast<unsigned char>(code.front()))) code.remove_prefix(1);
+  while (!code.empty() && std::isspace(static_cast<unsigned char>(code.back()))) code.remove_suffix(1);
+  std::string upper(code);
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  std::string valid;
+  for (const Method& m : kAllMethods) {
+    const std::string f = format_method(m);
+    if (upper == f) return m;
+    valid += valid.empty() ? "" : ", ";
+    valid += f;
+  }
+  throw InvalidArgument(detail::concat("unknown planning method '", code, "'; valid codes: ", valid));
+}
+
+/// The planner types behind the facade (each instantiated once, here).
+template <SearchSpace S>
+using RuntimeSearch = std::conditional_t<S == SearchSpace::sphere, SphereSpace,
+                                         std::conditional_t<S == SearchSpace::boundary, BoundarySpace, BoundaryHoleSpace>>;
+template <SearchSpace S>
+using RuntimePlannerOf = NbsPlanner<ProbabilisticVoxelSpace<>, StreamingMesh, RuntimeSearch<S>, SelectionUtility>;
+
+/// A planner whose method is chosen at run time. Same API and guarantees as NbsPlanner (LSP sensor, default space,
+/// mesh, termination, infinite workspace). Not copyable (owns the models); movable.
+class RuntimePlanner {
+public:
+  using Variant = std::variant<RuntimePlannerOf<SearchSpace::sphere>, RuntimePlannerOf<SearchSpace::boundary>,
+                               RuntimePlannerOf<SearchSpace::boundary_hole>>;
+
+  /// Throws InvalidArgument for invalid parameters, sensor, box or setting.
+  RuntimePlanner(const Method& method, const Parameters& params, const LaserStripeProfiler& sensor,
+                 const Aabb& unknown_area, const PlannerSetting& setting = {})
+      : method_(method), planner_(make(method, params, sensor, unknown_area, setting)) {}
+  /// Same, from a method code ("C_H", ...).
+  RuntimePlanner(std::string_view code, const Parameters& params, const LaserStripeProfiler& sensor,
+                 const Aabb& unknown_area, const PlannerSetting& setting = {})
+      : RuntimePlanner(parse_method(code), params, sensor, unknown_area, setting) {}
+
+  [[nodiscard]] const Method& method() const { return method_; }
+  [[nodiscard]] std::string code() const { return format_method(method_); }
+
+  IntegrationReport integrate(const Scan& scan) {
+    return std::visit([&](auto& p) { return p.integrate(scan); }, planner_);
+  }
+  [[nodiscard]] PlanResult next_best_scan() {
+    return std::visit([](auto& p) { return p.next_best_scan(); }, planner_);
+  }
+  [[nodiscard]] bool done() const {
+    return std::visit([](const auto& p) { return p.done(); }, planner_);
+  }
+  [[nodiscard]] LinearScanPath first_scan(std::uint64_t seed) const {
+    return std::visit([&](const auto& p) { return p.first_scan(seed); }, planner_);
+  }
+  [[nodiscard]] LinearScanPath initial_scan(int index) const {
+    return std::visit([&](const auto& p) { return p.initial_scan(index); }, planner_);
+  }
+  [[nodiscard]] ModelProgress progress() const {
+    return std::visit([](const auto& p) { return p.progress(); }, planner_);
+  }
+  [[nodiscard]] SearchMode mode() const {
+    return std::visit([](const auto& p) { return p.mode(); }, planner_);
+  }
+  [[nodiscard]] const StreamingMesh& mesh() const {
+    return std::visit([](const auto& p) -> const StreamingMesh& { return p.mesh(); }, planner_);
+  }
+  [[nodiscard]] const ProbabilisticVoxelSpace<>& space() const {
+    return std::visit([](const auto& p) -> const ProbabilisticVoxelSpace<>& { return p.space(); }, planner_);
+  }
+  [[nodiscard]] const LaserStripeProfiler& sensor() const {
+    return std::visit([](const auto& p) -> const LaserStripeProfiler& { return p.sensor(); }, planner_);
+  }
+  [[nodiscard]] const Aabb& unknown_area() const {
+    return std::visit([](const auto& p) -> const Aabb& { return p.unknown_area(); }, planner_);
+  }
+  /// The underlying planner (e.g. std::get_if<RuntimePlannerOf<SearchSpace::boundary_hole>>).
+  [[nodiscard]] Variant& variant() { return planner_; }
+  [[nodiscard]] const Variant& variant() const { return planner_; }
+
+private:
+  template <SearchSpace S>
+  static Variant build(Selection sel, const Parameters& params, const LaserStripeProfiler& sensor, const Aabb& box,
+                       const PlannerSetting& setting) {
+    Variant v(std::in_place_type<RuntimePlannerOf<S>>, params, sensor, box, setting);
+    std::get<RuntimePlannerOf<S>>(v).utility.setting.selection = sel;
+    return v;
+  }
+  static Variant make(const Method& m, const Parameters& params, const LaserStripeProfiler& sensor, const Aabb& box,
+                      const PlannerSetting& setting) {
+    bool known = false;
+    for (const Method& k : kAllMethods) known = known || k == m;
+    detail::require(known, "RuntimePlanner: method ", format_method(m), " is not one of the precompiled methods");
+    switch (m.search) {
+      case SearchSpace::sphere: return build<SearchSpace::sphere>(m.selection, params, sensor, box, setting);
+      case SearchSpace::boundary: return build<SearchSpace::boundary>(m.selection, params, sensor, box, setting);
+      case SearchSpace::boundary_hole: break;
+    }
+    return build<SearchSpace::boundary_hole>(m.selection, params, sensor, box, setting);
+  }
+
+  Method method_;
+  Variant planner_;
+};
+
+}  // namespace nbs

@@ -1,0 +1,116 @@
+#pragma once
+/// \file
+/// The planner's utility policy (Sec. 4.5.3): scores the candidate scan paths of one planning step.
+/// Built-in policies: the four thesis selections and the peer metrics (`FixedSelection<S>`, `SelectionUtility`
+/// chosen at run time) and `TermUtility<Term>` for a user-defined UtilityTerm.
+
+#include <cstdint>
+#include <span>
+#include <type_traits>
+
+#include "nbs/planner/detail/components.hpp"
+
+namespace nbs {
+
+/// What a utility policy may depend on besides the candidates and the space. Units: none.
+struct UtilityContext {
+  int scans = 0;                 ///< n_s: scans integrated so far (ω(n_s), Eq. 4.31)
+  std::uint64_t seed = 0;        ///< per-step seed (planner seed mixed with n_s), for Random
+  const Parameters* params = nullptr;  ///< λ, n_q, incidence cut-off (never null when called by NbsPlanner)
+};
+
+/// U scores candidates: `u.evaluate(paths, sensor, space, ctx, eval)` returns one value per path and the best
+/// (EvaluationResult, higher is better, ties to the lower index). Must be deterministic for any `eval.threads`.
+template <class U, class Space, class Sensor>
+concept UtilityPolicy = requires(const U& u, std::span<const LinearScanPath> paths, const Sensor& sensor,
+                                 const Space& space, const UtilityContext& ctx, const EvaluationSetting& eval) {
+  { u.evaluate(paths, sensor, space, ctx, eval) } -> std::same_as<EvaluationResult>;
+};
+
+/// One of the selection criteria of `nbs/utility/selection.hpp`, chosen at run time (Random, IG, Quality,
+/// IG/Quality of Sec. 4.7, peer metrics of Delmerico et al. 2018). λ, n_q and the cut-off come from Parameters.
+struct SelectionUtility {
+  struct Setting {
+    Selection selection = Selection::ig_quality;
+    double proximity_d_max_m = 0.015;  ///< d_max of PC and VG
+    bool peers_count_once = false;     ///< Sec. 4.5.3 visited marking for the peer metrics
+  };
+  Setting setting{};
+
+  template <class Space, CandidateRaySensor Sensor>
+  [[nodiscard]] EvaluationResult evaluate(std::span<const LinearScanPath> paths, const Sensor& sensor,
+                                          const Space& space, const UtilityContext& ctx,
+                                          const EvaluationSetting& eval) const {
+    const Parameters defaults{};
+    const Parameters& p = ctx.params ? *ctx.params : defaults;
+    SelectionSetting s;
+    s.selection = setting.selection;
+    s.n_scans = ctx.scans;
+    s.n_q = p.quality_half_scans;
+    s.lambda = p.quality_weight;
+    s.cutoff_rad = p.incidence_cutoff_rad;
+    s.seed = ctx.seed;
+    s.proximity_d_max_m = setting.proximity_d_max_m;
+    s.peers_count_once = setting.peers_count_once;
+    return evaluate_selection(paths, sensor, space, s, eval);
+  }
+};
+
+/// A selection criterion fixed at compile time (same code path as SelectionUtility).
+template <Selection S>
+struct FixedSelection {
+  struct Setting {
+    double proximity_d_max_m = 0.015;
+    bool peers_count_once = false;
+  };
+  Setting setting{};
+
+  template <class Space, CandidateRaySensor Sensor>
+  [[nodiscard]] EvaluationResult evaluate(std::span<const LinearScanPath> paths, const Sensor& sensor,
+                                          const Space& space, const UtilityContext& ctx,
+                                          const EvaluationSetting& eval) const {
+    return SelectionUtility{{S, setting.proximity_d_max_m, setting.peers_count_once}}.evaluate(paths, sensor, space,
+                                                                                               ctx, eval);
+  }
+};
+
+using RandomUtility = FixedSelection<Selection::random>;              ///< R: seeded random (Sec. 4.7)
+using InformationGainUtility = FixedSelection<Selection::information_gain>;  ///< I: ω = 0 in Eq. (4.30)
+using QualityUtility = FixedSelection<Selection::quality>;            ///< Q: ω = 1
+using IgQualityUtility = FixedSelection<Selection::ig_quality>;       ///< C: ω(n_s), Eqs. (4.30)–(4.31)
+
+/// A user-defined UtilityTerm: every candidate is scored by a copy of `setting.prototype` (evaluate_candidates).
+template <UtilityTerm Term>
+struct TermUtility {
+  struct Setting {
+    Term prototype{};
+  };
+  Setting setting{};
+
+  template <class Space, CandidateRaySensor Sensor>
+  [[nodiscard]] EvaluationResult evaluate(std::span<const LinearScanPath> paths, const Sensor& sensor,
+                                          const Space& space, const UtilityContext&,
+                                          const EvaluationSetting& eval) const {
+    return evaluate_candidates(paths, sensor, space, setting.prototype, eval);
+  }
+};
+
+/// A user-defined UtilityTerm built anew for each planning step by `setting.make(space, ctx)` (for terms that
+/// depend on n_s, N_v, the seed, ...). `Factory` is a copyable callable returning a UtilityTerm.
+template <class Factory>
+struct TermFactoryUtility {
+  struct Setting {
+    Factory make{};
+  };
+  Setting setting{};
+
+  template <class Space, CandidateRaySensor Sensor>
+    requires UtilityTerm<std::invoke_result_t<const Factory&, const Space&, const UtilityContext&>>
+  [[nodiscard]] EvaluationResult evaluate(std::span<const LinearScanPath> paths, const Sensor& sensor,
+                                          const Space& space, const UtilityContext& ctx,
+                                          const EvaluationSetting& eval) const {
+    return evaluate_candidates(paths, sensor, space, setting.make(space, ctx), eval);
+  }
+};
+
+}  // namespace nbs

@@ -1,0 +1,224 @@
+// Core-only planner tests (no Embree): bad input and statuses, the runtime facade's codes, and the closed loop on an
+// analytic sphere standing on the pedestal (determinism over thread counts, termination, BS → HR switch).
+
+#include <catch2/catch.hpp>
+
+#include <set>
+#include <string>
+
+#include "nbs/planner/nbs_planner.hpp"
+#include "nbs/planner/runtime_planner.hpp"
+#include "nbs/planner/simulation_loop.hpp"
+#include "nbs/sensor/presets.hpp"
+#include "support/analytic_scanner.hpp"
+
+namespace {
+
+using nbs::Aabb;
+using nbs::Vec3;
+
+/// The bounding box of the unknown area around the test sphere: pedestal plane z = 0 up to above the top.
+Aabb sphere_box() { return {Vec3(-0.06, -0.06, 0.0), Vec3(0.06, 0.06, 0.10)}; }
+
+/// A lighter LSP (fewer rays, 2 mm profile spacing) so the loop tests stay fast; geometry as the DLR LSP.
+nbs::LaserStripeProfiler light_lsp() {
+  nbs::LaserStripeProfiler s = nbs::presets::dlr_lsp();
+  s.points_per_profile = 200;
+  s.profile_spacing_m = 0.002;
+  return s;
+}
+
+nbs::PlannerSetting setting(unsigned threads) {
+  nbs::PlannerSetting s;
+  s.threads = threads;
+  return s;
+}
+
+bool same_pose(const nbs::Pose& a, const nbs::Pose& b) { return a.matrix() == b.matrix(); }
+
+}  // namespace
+
+TEST_CASE("planner: invalid parameters, sensor, box and setting throw InvalidArgument", "[planner]") {
+  const Aabb box = sphere_box();
+  const auto lsp = light_lsp();
+  nbs::Parameters bad;
+  bad.voxel_size_m = -0.005;
+  CHECK_THROWS_AS(nbs::NbsPlanner<>(bad, lsp, box), nbs::InvalidArgument);
+  bad = {};
+  bad.target_coverage = 1.5;
+  CHECK_THROWS_AS(nbs::NbsPlanner<>(bad, lsp, box), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, Aabb{}), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, Aabb{Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.0)}), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, Aabb{Vec3(0, 0, 0), Vec3(0.1, 0.1, NAN)}), nbs::InvalidArgument);
+  auto bad_lsp = lsp;
+  bad_lsp.fan_angle_rad = 0.0;
+  CHECK_THROWS_AS(nbs::NbsPlanner<>({}, bad_lsp, box), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, box, setting(0)), nbs::InvalidArgument);
+  nbs::PlannerSetting far;
+  far.standoff_m = 0.9;  // outside the 0.15–0.45 m working range
+  CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, box, far), nbs::InvalidArgument);
+  nbs::SimulationSetting sim;
+  sim.max_scans = 0;
+  CHECK_THROWS_AS(sim.validate(), nbs::InvalidArgument);
+}
+
+TEST_CASE("planner: empty mesh gives nothing_seen_yet, never a silent empty plan", "[planner]") {
+  nbs::NbsPlanner<> p({}, light_lsp(), sphere_box());
+  const nbs::PlanResult r = p.next_best_scan();
+  CHECK(r.status == nbs::PlanStatus::nothing_seen_yet);
+  CHECK_FALSE(r.ok());
+  CHECK_FALSE(r.candidate.has_value());
+  CHECK_THROWS_AS(r.path(), nbs::InvalidArgument);
+  CHECK(p.scans() == 0);
+  // A first scan is always available (Sec. 4.1) and lies at d_s outside the box, looking into it.
+  const nbs::LinearScanPath first = p.first_scan(7);
+  CHECK_FALSE(p.unknown_area().contains(first.start().position()));
+}
+
+TEST_CASE("planner: a scan entirely outside the bounding box gets a clear status and changes nothing", "[planner]") {
+  nbs::NbsPlanner<> p({}, light_lsp(), sphere_box());
+  const nbs::test::SphereOnPedestal far_sphere{Vec3(0.5, 0.0, 0.04), 0.04};  // outside the box
+  const nbs::LinearScanPath path(nbs::Viewpoint::look_at(Vec3(0.5, -0.3, 0.04), Vec3(0.5, 0.0, 0.04)),
+                                 Vec3(0.5, -0.3, 0.08));
+  const nbs::Scan scan = far_sphere.scan(path, p.sensor(), 1);
+  REQUIRE(scan.size() > 100);
+  const nbs::IntegrationReport r = p.integrate(scan);
+  CHECK(r.status == nbs::IntegrationStatus::outside_unknown_area);
+  CHECK(r.points == scan.size());
+  CHECK(r.points_inside == 0);
+  CHECK(r.scans == 1);
+  CHECK(p.mesh().vertex_count() == 0);
+  CHECK(p.space().totals().integrated == 0);
+  CHECK(p.next_best_scan().status == nbs::PlanStatus::nothing_seen_yet);
+
+  CHECK(p.integrate(nbs::Scan{}).status == nbs::IntegrationStatus::empty_scan);
+  nbs::Scan broken = scan;
+  broken.points[3].x() = NAN;
+  CHECK_THROWS_AS(p.integrate(broken), nbs::InvalidArgument);
+  CHECK(p.scans() == 2);  // the invalid scan was not counted
+}
+
+TEST_CASE("runtime facade: every method code parses and round-trips; unknown codes are rejected", "[planner]") {
+  std::set<std::string> codes;
+  for (const nbs::Method& m : nbs::kAllMethods) {
+    const std::string code = nbs::format_method(m);
+    CHECK(nbs::parse_method(code) == m);
+    codes.insert(code);
+  }
+  CHECK(codes.size() == 19);
+  for (const char* c : {"R_S", "R_B", "R_H", "I_S", "I_B", "I_H", "Q_S", "Q_B", "Q_H", "C_S", "C_B", "C_H", "OA_H",
+                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H"})
+    CHECK(codes.count(c) == 1);
+  CHECK(nbs::parse_method(" c_h ") == nbs::Method{nbs::Selection::ig_quality, nbs::SearchSpace::boundary_hole});
+  CHECK(nbs::parse_method("r_s") == nbs::Method{nbs::Selection::random, nbs::SearchSpace::sphere});
+  for (const char* bad : {"", "C", "C_X", "X_H", "OA_S", "CH", "C_H_"}) {
+    CHECK_THROWS_AS(nbs::parse_method(bad), nbs::InvalidArgument);
+    try {
+      (void)nbs::parse_method(bad);
+    } catch (const nbs::InvalidArgument& e) {
+      const std::string msg = e.what();
+      CHECK(msg.find("valid codes") != std::string::npos);
+      CHECK(msg.find("C_H") != std::string::npos);
+      CHECK(msg.find("VG_H") != std::string::npos);
+    }
+  }
+  for (const nbs::Method& m : nbs::kAllMethods) {
+    const nbs::RuntimePlanner p(m, {}, light_lsp(), sphere_box());
+    CHECK(p.method() == m);
+    CHECK(p.variant().index() == static_cast<std::size_t>(m.search));
+  }
+  CHECK_THROWS_AS(nbs::RuntimePlanner("nope", {}, light_lsp(), sphere_box()), nbs::InvalidArgument);
+}
+
+TEST_CASE("loop: same seed, same scan sequence with 1 and 2 threads; facade equals the composed planner",
+          "[planner][loop]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::SimulationSetting sim;
+  sim.seed = 3;
+  sim.max_scans = 5;
+  nbs::NbsPlanner<> p1({}, light_lsp(), sphere_box(), setting(1));
+  nbs::NbsPlanner<> p2({}, light_lsp(), sphere_box(), setting(2));
+  nbs::RuntimePlanner rp("C_H", {}, light_lsp(), sphere_box(), setting(2));
+  const auto a = nbs::run_simulation(p1, sphere, sim);
+  const auto b = nbs::run_simulation(p2, sphere, sim);
+  const auto c = nbs::run_simulation(rp, sphere, sim);
+  REQUIRE(a.records.size() >= 3);  // a first scan and at least two planned ones
+  REQUIRE(a.records.size() == b.records.size());
+  REQUIRE(a.records.size() == c.records.size());
+  CHECK(a.records[0].initial_index == nbs::random_initial_scan_index(3));
+  for (std::size_t i = 0; i < a.records.size(); ++i) {
+    INFO("scan " << i + 1);
+    CHECK(same_pose(a.records[i].path.start().pose(), b.records[i].path.start().pose()));
+    CHECK(a.records[i].path.end_position() == b.records[i].path.end_position());
+    CHECK(same_pose(a.records[i].path.start().pose(), c.records[i].path.start().pose()));
+    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
+    CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
+    CHECK(a.records[i].planning.evaluated == b.records[i].planning.evaluated);
+  }
+}
+
+TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[planner][loop]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::Parameters params;
+  params.max_scans = 12;
+  nbs::SimulationSetting sim;
+  sim.seed = 11;
+  sim.max_scans = 40;  // larger than n_abort: the planner's criterion must stop the loop
+  nbs::NbsPlanner<> p(params, light_lsp(), sphere_box(), setting(2));
+  std::vector<int> seen;
+  const auto res = nbs::run_simulation(p, sphere, sim, [&](const nbs::ScanRecord& r) { seen.push_back(r.scan); });
+  const auto& rec = res.records;
+  REQUIRE(!rec.empty());
+  CHECK(seen.size() == rec.size());
+  CHECK(res.stop == nbs::LoopStop::done);
+  const auto criterion = [&](const nbs::IntegrationReport& r) {
+    return (r.estimated_coverage >= params.target_coverage && r.mean_density >= params.target_density) ||
+           r.scans >= params.max_scans;
+  };
+  for (std::size_t i = 0; i + 1 < rec.size(); ++i) CHECK_FALSE(criterion(rec[i].integration));
+  CHECK(criterion(rec.back().integration));
+  CHECK(rec.back().integration.done);
+  CHECK(p.next_best_scan().status == nbs::PlanStatus::done);
+
+  // Eq. (4.38): the mode switches at the first scan i ≥ 2 whose ĉ_m gain is < 1 %, and never back.
+  std::size_t switch_at = rec.size();
+  for (std::size_t i = 1; i < rec.size(); ++i)
+    if (rec[i].integration.estimated_coverage - rec[i - 1].integration.estimated_coverage < params.mode_switch_gain) {
+      switch_at = i;
+      break;
+    }
+  INFO("switch at scan " << switch_at + 1 << " of " << rec.size());
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    CHECK(rec[i].integration.switched == (i == switch_at));
+    const bool hr = rec[i].integration.mode == nbs::SearchMode::HoleRescan;
+    if (i < switch_at) CHECK_FALSE(hr);
+    // After the switch every planned scan comes from Hole Rescan (remaining BS candidates discarded).
+    if (i > switch_at && i < rec.size()) {
+      REQUIRE(rec[i].candidate.has_value());
+      CHECK(rec[i].candidate->source == nbs::CandidateSource::hole_rescan);
+      CHECK(rec[i].planning.mode == nbs::SearchMode::HoleRescan);
+    }
+    if (i >= 1 && i <= switch_at) {
+      REQUIRE(rec[i].candidate.has_value());
+      CHECK(rec[i].candidate->source == nbs::CandidateSource::boundary_search);
+    }
+  }
+  REQUIRE(switch_at + 1 < rec.size());  // the switch happened and at least one HR scan followed
+}
+
+TEST_CASE("loop: a custom termination policy stops the loop exactly", "[planner][loop]") {
+  const nbs::test::SphereOnPedestal sphere;
+  using Planner = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh, nbs::BoundarySpace,
+                                  nbs::RandomUtility, nbs::MaxScansReached>;
+  Planner p({}, light_lsp(), sphere_box());
+  p.termination = nbs::MaxScansReached(3);
+  const auto res = nbs::run_simulation(p, sphere, {});
+  CHECK(res.records.size() == 3);
+  CHECK(res.stop == nbs::LoopStop::done);
+  for (std::size_t i = 1; i < res.records.size(); ++i) {
+    REQUIRE(res.records[i].candidate.has_value());
+    CHECK(res.records[i].candidate->source == nbs::CandidateSource::boundary_search);
+    CHECK(res.records[i].planning.best_utility >= 0.0);
+    CHECK(res.records[i].planning.best_utility < 1.0);  // Random: uniform in [0, 1)
+  }
+}
