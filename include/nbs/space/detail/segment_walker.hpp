@@ -50,11 +50,13 @@ public:
       next_[a] = d > 0 ? cell + kOne - s : (d < 0 ? s - cell : 0);
     }
     total_ = static_cast<std::int64_t>(remaining_[0]) + remaining_[1] + remaining_[2];
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        prod_[a][b] = next_[a] * abs_[b];
-        inc_[a][b] = kOne * abs_[b];
-      }
+    // p_ab = N_a·A_b; i_ab = 2^F·A_b is added to p_ab when axis a steps.
+    p01_ = next_[0] * abs_[1], p02_ = next_[0] * abs_[2];
+    p10_ = next_[1] * abs_[0], p12_ = next_[1] * abs_[2];
+    p20_ = next_[2] * abs_[0], p21_ = next_[2] * abs_[1];
+    i01_ = kOne * abs_[1], i02_ = kOne * abs_[2];
+    i10_ = kOne * abs_[0], i12_ = kOne * abs_[2];
+    i20_ = kOne * abs_[0], i21_ = kOne * abs_[1];
     for (int a = 0; a < 3; ++a)
       if (remaining_[a] == 0) exhaust(a);
   }
@@ -69,12 +71,34 @@ public:
   /// Moves to the next voxel and returns the axis crossed. Precondition: remaining() > 0.
   int step() {
     // t_a < t_b ⇔ N_a·A_b < N_b·A_a; ties go to the later axis. Exhausted axes never win (see exhaust()).
-    int best = prod_[0][1] < prod_[1][0] ? 0 : 1;
-    if (prod_[2][best] <= prod_[best][2]) best = 2;
-    key_[best] += sign_[best];
+    // Named members (no variable indexing) so that an inlined walk keeps them in registers.
+    int best;
+    if (p01_ < p10_) {
+      best = p20_ <= p02_ ? 2 : 0;
+    } else {
+      best = p21_ <= p12_ ? 2 : 1;
+    }
     --total_;
-    for (int b = 0; b < 3; ++b) prod_[best][b] += inc_[best][b];
-    if (--remaining_[best] == 0) exhaust(best);
+    switch (best) {
+      case 0:
+        key_.x += sign_[0];
+        p01_ += i01_;
+        p02_ += i02_;
+        if (--remaining_[0] == 0) exhaust(0);
+        break;
+      case 1:
+        key_.y += sign_[1];
+        p10_ += i10_;
+        p12_ += i12_;
+        if (--remaining_[1] == 0) exhaust(1);
+        break;
+      default:
+        key_.z += sign_[2];
+        p20_ += i20_;
+        p21_ += i21_;
+        if (--remaining_[2] == 0) exhaust(2);
+        break;
+    }
     return best;
   }
 
@@ -83,11 +107,18 @@ private:
   // Axis a has no crossing left: make every comparison against it lose (its products +2^62, the others' −2^62;
   // real products and their growth stay below 2^62 in magnitude, so the order is kept).
   void exhaust(int a) {
-    for (int b = 0; b < 3; ++b) {
-      if (b == a) continue;
-      prod_[a][b] = kNever;
-      prod_[b][a] = -kNever;
-      inc_[b][a] = 0;
+    if (a == 0) {
+      p01_ = p02_ = kNever;
+      p10_ = p20_ = -kNever;
+      i10_ = i20_ = 0;
+    } else if (a == 1) {
+      p10_ = p12_ = kNever;
+      p01_ = p21_ = -kNever;
+      i01_ = i21_ = 0;
+    } else {
+      p20_ = p21_ = kNever;
+      p02_ = p12_ = -kNever;
+      i02_ = i12_ = 0;
     }
   }
 
@@ -97,8 +128,8 @@ private:
   std::int64_t total_ = 0;
   std::int64_t abs_[3] = {0, 0, 0};
   std::int64_t next_[3] = {0, 0, 0};
-  std::int64_t prod_[3][3] = {};
-  std::int64_t inc_[3][3] = {};
+  std::int64_t p01_ = 0, p02_ = 0, p10_ = 0, p12_ = 0, p20_ = 0, p21_ = 0;
+  std::int64_t i01_ = 0, i02_ = 0, i10_ = 0, i12_ = 0, i20_ = 0, i21_ = 0;
 };
 
 }  // namespace nbs::detail
