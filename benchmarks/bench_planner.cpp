@@ -1,0 +1,80 @@
+// bench_planner: NBS planning time of the composed planner (issue 5). Method C_H (IG/Quality, Boundary Search +
+// Hole Rescan), bunny normalised to 160 mm on the pedestal, Tab. 4.3 parameters, DLR LSP, 2 threads, seed 1.
+// Headlines: planner.t_nbs_median_s (median over the planning steps of one closed loop; target ≤ 0.05 s, thesis
+// Tab. 4.5: 1.37 s) and planner.t_nbs_per_candidate_ms (median of t_nbs / candidates scored).
+// Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "headline.hpp"
+#include "nbs/planner/nbs_planner.hpp"
+#include "nbs/planner/simulation_loop.hpp"
+#include "nbs/embree/simulated_scanner.hpp"
+#include "nbs/io/load_mesh.hpp"
+#include "nbs/mesh/normalize.hpp"
+#include "nbs/sensor/presets.hpp"
+
+namespace {
+
+struct Fixture {
+  nbs::IndexedMesh mesh;
+  nbs::Aabb box;
+  Fixture() : mesh(nbs::load_mesh(NBS_DATA_DIR "/meshes/stanford-bunny.obj")) {
+    nbs::normalize_on_pedestal(mesh, 0.16, nbs::UpAxis::y);
+    box = mesh.bounds();
+    box.min -= nbs::Vec3(0.01, 0.01, 0.0);
+    box.max += nbs::Vec3(0.01, 0.01, 0.01);
+  }
+};
+const Fixture& fixture() {
+  static const Fixture f;
+  return f;
+}
+nbs::PlannerSetting two_threads() {
+  nbs::PlannerSetting s;
+  s.threads = 2;
+  return s;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void BM_first_planning_step(benchmark::State& state) {
+  const nbs::embree::SimulatedScanner scanner(fixture().mesh);
+  for (auto _ : state) {
+    state.PauseTiming();
+    nbs::NbsPlanner<> planner({}, nbs::presets::dlr_lsp(), fixture().box, two_threads());
+    (void)planner.integrate(scanner.scan(planner.first_scan(1), planner.sensor(), 1));
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(planner.next_best_scan());
+  }
+}
+BENCHMARK(BM_first_planning_step)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  const nbs::embree::SimulatedScanner scanner(fixture().mesh);
+  nbs::NbsPlanner<> planner({}, nbs::presets::dlr_lsp(), fixture().box, two_threads());
+  nbs::SimulationSetting sim;
+  sim.seed = 1;
+  sim.max_scans = nbs::bench::quick_mode() ? 8 : 30;
+  std::vector<double> t_nbs, per_candidate_ms;
+  (void)nbs::run_simulation(planner, scanner, sim, [&](const nbs::ScanRecord& r) {
+    if (r.scan == 1 || r.planning.evaluated == 0) return;
+    t_nbs.push_back(r.planning.t_nbs_s);
+    per_candidate_ms.push_back(1e3 * r.planning.t_nbs_s / static_cast<double>(r.planning.evaluated));
+  });
+  nbs::bench::report_headline("planner.t_nbs_median_s", median(t_nbs), "C_H, bunny 160 mm, Tab. 4.3, 2 threads; target <= 0.05 s");
+  nbs::bench::report_headline("planner.t_nbs_per_candidate_ms", median(per_candidate_ms), "report");
+  return 0;
+}

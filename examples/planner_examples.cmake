@@ -1,0 +1,7 @@
+# Planner examples (issue 5): compose a planner from policies; plug in a user-defined utility term.
+if(TARGET nbs::embree)
+  nbs_add_example(02_compose_your_planner SOURCES ${CMAKE_CURRENT_LIST_DIR}/02_compose_your_planner.cpp LIBS nbs::embree)
+endif()
+if(TARGET nbs::embree)
+  nbs_add_example(03_custom_utility_term SOURCES ${CMAKE_CURRENT_LIST_DIR}/03_custom_utility_term.cpp LIBS nbs::embree)
+endif()
