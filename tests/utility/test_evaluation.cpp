@@ -7,6 +7,7 @@
 
 #include "nbs/space/ray_traversal.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
+#include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 #include "test_terms_fixtures.hpp"
 
@@ -195,4 +196,184 @@ TEST_CASE("bad input: empty list, invalid sensor or sampling, non-finite paths",
   CHECK(f.values[0] == 0.0);
   CHECK(f.voxels[0] == 0u);
   CHECK(f.best == 0);
+}
+
+// ---- The evaluator's snapshot path (detail/planning_snapshot.hpp) against space.cast_ray ---------------------------
+namespace {
+
+// Forwards the PlanningSpace API of a space but not bounds_keys()/for_each(), so the evaluator cannot snapshot it and
+// takes the space.cast_ray path with per-voxel lookups.
+template <class Space>
+struct CastRayOnly {
+  using State = typename Space::State;
+  const Space* s;
+  template <class V>
+  RaycastResult cast_ray(const Ray& r, V&& v) const {
+    return s->cast_ray(r, static_cast<V&&>(v));
+  }
+  [[nodiscard]] const auto& model() const { return s->model(); }
+  [[nodiscard]] bool observed(const VoxelKey& k) const { return s->observed(k); }
+  [[nodiscard]] const SurfaceFeatureMap& features() const { return s->features(); }
+  [[nodiscard]] const VoxelGrid& grid() const { return s->grid(); }
+};
+
+// Records every call (one thread only).
+struct Recorder {
+  struct Log {
+    std::vector<VoxelVisit> visits;
+    std::vector<RayEnd> ends;
+  };
+  Log* log = nullptr;
+  void begin_candidate(std::size_t) {}
+  void begin_ray() {}
+  void visit(const VoxelVisit& v) { log->visits.push_back(v); }
+  void end_ray(const RayEnd& e) { log->ends.push_back(e); }
+  [[nodiscard]] double value() const { return 0.0; }
+};
+
+void check_same_visits(const Recorder::Log& a, const Recorder::Log& b) {
+  REQUIRE(a.visits.size() == b.visits.size());
+  REQUIRE(a.ends.size() == b.ends.size());
+  for (std::size_t i = 0; i < a.ends.size(); ++i) {
+    CHECK(a.ends[i].hit == b.ends[i].hit);
+    CHECK(a.ends[i].voxels == b.ends[i].voxels);
+  }
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < a.visits.size(); ++i) {
+    const VoxelVisit &x = a.visits[i], &y = b.visits[i];
+    const bool same = x.key == y.key && x.probability == y.probability && x.entropy() == y.entropy() &&
+                      x.observed == y.observed && x.occupied == y.occupied && x.first_visit == y.first_visit &&
+                      x.features == y.features && x.direction == y.direction && x.distance_m == y.distance_m &&
+                      x.index == y.index;
+    bad += same ? 0 : 1;
+  }
+  CHECK(bad == 0);
+}
+
+// A ThesisModel space over keys 0..9 with the slab pattern of slab_space() plus a few voxels made occupied, some of
+// them with surface features.
+ProbabilisticVoxelSpace<> thesis_slab_space() {
+  Aabb box;
+  box.min = Vec3::Zero();
+  box.max = Vec3::Constant(0.0999);
+  ThesisModel::Setting ms;
+  ms.sigma_m = [](double) { return 0.002; };
+  ms.similar_direction_cells = -1;
+  ProbabilisticVoxelSpace<> space(0.01, box, ThesisModel(ms));
+  std::vector<std::pair<int, int>> rows;
+  for (int y = 0; y < 10; ++y)
+    for (int z = 0; z < 10; ++z)
+      if ((y + z) % 3 != 0) rows.push_back({y, z});
+  for (int k = 0; k < 4; ++k) space.integrate(nbs_test::rows_scan(rows, 5 + (k % 2)));
+  SurfaceFeatures f;
+  f.mean_density = 0.25f;
+  f.border_share = 0.5f;
+  f.mean_normal = Eigen::Vector3f(-0.8f, 0.0f, 0.0f);
+  int with_features = 0;
+  space.for_each([&](const VoxelKey& k, const ThesisState& s) {
+    if (space.model().occupied(s) && (k.y + k.z) % 2 == 0) {
+      space.features().set(k, f);
+      ++with_features;
+    }
+  });
+  REQUIRE(with_features > 0);
+  return space;
+}
+
+std::vector<LinearScanPath> mixed_candidates() {
+  auto c = ring_candidates(6);
+  // Starting inside the box, along an axis, and looking through a box corner.
+  c.emplace_back(Viewpoint::look_at(Vec3(0.05, 0.05, 0.05), Vec3(0.5, 0.05, 0.05)), Vec3(0.05, 0.07, 0.05));
+  c.emplace_back(Viewpoint::look_at(Vec3(-0.1, -0.1, -0.1), Vec3(0.1, 0.1, 0.1)));
+  c.emplace_back(Viewpoint::look_at(Vec3(0.105, 0.05, 0.05), Vec3(0.0, 0.05, 0.05)), Vec3(0.105, 0.05, 0.08));
+  return c;
+}
+
+template <class Space>
+void check_snapshot_matches_cast_ray(const Space& space) {
+  auto lsp = small_lsp();
+  lsp.points_per_profile = 33;
+  const auto cands = mixed_candidates();
+  REQUIRE(detail::PlanningSnapshot<Space>(space).enabled());
+  for (const RaySampling sampling : {RaySampling{1, 1}, RaySampling{2, 3}}) {
+    Recorder::Log fast, slow;
+    EvaluationSetting es = nbs_test::threads(1);
+    es.sampling = sampling;
+    const auto rf = evaluate_candidates(cands, lsp, space, Recorder{&fast}, es);
+    const auto rs = evaluate_candidates(cands, lsp, CastRayOnly<Space>{&space}, Recorder{&slow}, es);
+    CHECK(rf.voxels == rs.voxels);
+    CHECK(rf.rays == rs.rays);
+    check_same_visits(fast, slow);
+    CHECK(!fast.visits.empty());
+  }
+}
+
+}  // namespace
+
+TEST_CASE("the snapshot path feeds the same visits as space.cast_ray (log-odds and thesis models)",
+          "[utility][evaluation]") {
+  SECTION("log-odds slab") { check_snapshot_matches_cast_ray(slab_space()); }
+  SECTION("thesis model with features") {
+    const auto space = thesis_slab_space();
+    check_snapshot_matches_cast_ray(space);
+    // Some recorded visits carry features, some hit, some are unobserved: the comparison covered every field.
+    Recorder::Log log;
+    auto lsp = small_lsp();
+    (void)evaluate_candidates(mixed_candidates(), lsp, space, Recorder{&log}, nbs_test::threads(1));
+    std::size_t with_f = 0, hits = 0, unobserved = 0, repeats = 0;
+    for (const auto& v : log.visits) {
+      with_f += v.features != nullptr;
+      hits += v.occupied;
+      unobserved += !v.observed;
+      repeats += !v.first_visit;
+    }
+    CHECK(with_f > 0);
+    CHECK(hits > with_f);
+    CHECK(unobserved > 0);
+    CHECK(repeats > 0);
+  }
+}
+
+TEST_CASE("thesis terms give bit-identical values through the snapshot and through space.cast_ray",
+          "[utility][evaluation]") {
+  const auto space = thesis_slab_space();
+  const auto lsp = small_lsp();
+  const auto cands = mixed_candidates();
+  const double n_v = non_free_voxel_count(space);
+  using Slow = CastRayOnly<ProbabilisticVoxelSpace<>>;
+  for (double omega : {0.0, 0.4, 1.0}) {
+    WeightedUtility::Setting ws;
+    ws.non_free_voxels = n_v;
+    ws.omega = omega;
+    const WeightedUtility term(ws);
+    const auto fast = evaluate_candidates(cands, lsp, space, term, nbs_test::threads(2));
+    const auto slow = evaluate_candidates(cands, lsp, Slow{&space}, term, nbs_test::threads(1));
+    CHECK(fast.values == slow.values);
+    CHECK(fast.best == slow.best);
+  }
+  const auto oa = evaluate_candidates(cands, lsp, space, OcclusionAwareVI(), nbs_test::threads(3));
+  const auto oa_slow = evaluate_candidates(cands, lsp, Slow{&space}, OcclusionAwareVI(), nbs_test::threads(1));
+  CHECK(oa.values == oa_slow.values);
+}
+
+TEST_CASE("a space without a bounded unknown area is evaluated without a snapshot", "[utility][evaluation]") {
+  nbs_test::LogOddsSpace unbounded(0.01);
+  std::vector<std::pair<int, int>> rows{{5, 5}, {5, 6}, {6, 5}};
+  unbounded.integrate(nbs_test::rows_scan(rows, 6));
+  CHECK(!detail::PlanningSnapshot<nbs_test::LogOddsSpace>(unbounded).enabled());
+  const auto lsp = small_lsp();
+  const auto cands = ring_candidates(3);
+  const auto r = evaluate_candidates(cands, lsp, unbounded, OcclusionAwareVI(), nbs_test::threads(2));
+  const auto s = evaluate_candidates(cands, lsp, CastRayOnly<nbs_test::LogOddsSpace>{&unbounded}, OcclusionAwareVI(),
+                                     nbs_test::threads(1));
+  CHECK(r.values == s.values);
+  CHECK(r.values[0] > 0.0);
+}
+
+TEST_CASE("precomputed entropy equals voxel_entropy(p); without it VoxelVisit computes it", "[utility][evaluation]") {
+  VoxelVisit v;
+  v.probability = 0.3;
+  CHECK(v.entropy() == voxel_entropy(0.3));
+  v.entropy_bits = 0.25;
+  CHECK(v.entropy() == 0.25);
 }

@@ -39,11 +39,18 @@ inline void append_candidate_rays(const LinearScanPath& path, const LaserStripeP
   sampling.validate();
   const std::vector<Pose> poses = lsp.profile_poses(path);
   const auto n = static_cast<std::size_t>(lsp.points_per_profile);
+  // The fan in the sensor frame is the same for every profile: compute its directions (sin, cos) once.
+  std::vector<Vec3> fan;
+  for (std::size_t i = 0; i < n; i = detail::next_index(i, sampling.ray_stride, n))
+    fan.push_back(lsp.ray_direction_sensor(static_cast<int>(i)));
+  std::size_t profiles = 0;
+  for (std::size_t k = 0; k < poses.size(); k = detail::next_index(k, sampling.profile_stride, poses.size())) ++profiles;
+  out.reserve(out.size() + profiles * fan.size());
   for (std::size_t k = 0; k < poses.size(); k = detail::next_index(k, sampling.profile_stride, poses.size())) {
     const Vec3 o = poses[k].translation();
     const Mat3 r = poses[k].linear();
-    for (std::size_t i = 0; i < n; i = detail::next_index(i, sampling.ray_stride, n)) {
-      const Vec3 d = r * lsp.ray_direction_sensor(static_cast<int>(i));
+    for (const Vec3& ds : fan) {
+      const Vec3 d = r * ds;
       out.push_back({o + lsp.range.min_m * d, o + lsp.range.max_m * d});
     }
   }

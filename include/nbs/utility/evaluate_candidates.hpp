@@ -22,6 +22,7 @@
 #include "nbs/core/scan_path.hpp"
 #include "nbs/utility/candidate_rays.hpp"
 #include "nbs/utility/detail/key_set.hpp"
+#include "nbs/utility/detail/planning_snapshot.hpp"
 #include "nbs/utility/utility_term.hpp"
 
 namespace nbs {
@@ -72,48 +73,84 @@ struct EvaluationResult {
 
 namespace detail {
 
-/// Evaluates one candidate with `term` (reset by begin_candidate), reusing `rays` and `visited`.
+/// Per-thread scratch buffers of the evaluator, reused across candidates.
+struct EvaluationBuffers {
+  std::vector<Ray> rays;
+  KeySet visited;       // fallback path (no snapshot)
+  VisitedBits bits;     // snapshot path: one bit per voxel of the box
+};
+
+/// Evaluates one candidate with `term` (reset by begin_candidate). With an enabled `snapshot`, rays are cast over it
+/// (the voxels, order and stop rule of space.cast_ray, see planning_snapshot.hpp); otherwise through
+/// space.cast_ray with per-voxel lookups. Both feed the term the same VoxelVisits.
 template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
-                  const RaySampling& sampling, Term& term, std::vector<Ray>& rays, KeySet& visited,
-                  double& value, std::uint64_t& ray_count, std::uint64_t& voxel_count) {
+                  const PlanningSnapshot<Space>& snapshot, const RaySampling& sampling, Term& term,
+                  EvaluationBuffers& buf, double& value, std::uint64_t& ray_count, std::uint64_t& voxel_count) {
   using State = typename Space::State;
   term.begin_candidate(index);
   ray_count = voxel_count = 0;
   if constexpr (term_needs_rays<Term>()) {
-    rays.clear();
-    append_candidate_rays(path, sensor, sampling, rays);
-    visited.clear();
+    buf.rays.clear();
+    append_candidate_rays(path, sensor, sampling, buf.rays);
+    const bool fast = snapshot.enabled();
+    if (fast) buf.bits.reset(snapshot.voxel_count());
+    buf.visited.clear();
     const auto& model = space.model();
     const auto& features = space.features();
     const bool have_features = features.size() > 0;
-    for (const Ray& ray : rays) {
+    const VoxelGrid& grid = space.grid();
+    for (const Ray& ray : buf.rays) {
       const Vec3 dir = (ray.end - ray.origin).normalized();
       std::uint32_t n = 0;
       term.begin_ray();
-      const RaycastResult res = space.cast_ray(ray, [&](const VoxelKey& k, const State& s) {
-        VoxelVisit v;
-        v.key = k;
-        v.probability = model.probability(s);
-        v.occupied = model.occupied(s);
-        if constexpr (std::equality_comparable<State>) {
-          v.observed = !(s == State{}) || space.observed(k);  // only unknown-looking states need the lookup
-        } else {
-          v.observed = space.observed(k);
-        }
-        v.first_visit = visited.insert(k.pack());
-        // Features exist only for surface voxels (p ≥ 0.95, Sec. 4.5.1), which are occupied; look up only those.
-        v.features = (have_features && v.occupied) ? features.find(k) : nullptr;
-        v.direction = dir;
-        v.distance_m = (space.grid().center(k) - ray.origin).norm();
-        v.index = n++;
-        term.visit(v);
-        return true;
-      });
+      RaycastResult res;
+      typename PlanningSnapshot<Space>::Clipped clipped;
+      if (fast) {
+        detail::require(ray.origin.allFinite() && ray.end.allFinite(), "candidate ", index, ": ray is not finite");
+        clipped = snapshot.clip(ray);
+      }
+      if (fast && clipped.meets && clipped.inside) {
+        res = snapshot.cast(clipped, [&](const VoxelKey& k, const VoxelClass& c, std::size_t box_index) {
+          VoxelVisit v;
+          v.key = k;
+          v.probability = c.probability;
+          v.entropy_bits = c.entropy_bits;
+          v.occupied = c.occupied;
+          v.observed = c.observed;
+          v.first_visit = buf.bits.insert(box_index);
+          v.features = c.features;
+          v.direction = dir;
+          v.distance_m = (grid.center(k) - ray.origin).norm();
+          v.index = n++;
+          term.visit(v);
+          return true;
+        });
+      } else if (!fast || clipped.meets) {
+        res = space.cast_ray(ray, [&](const VoxelKey& k, const State& s) {
+          VoxelVisit v;
+          v.key = k;
+          v.probability = model.probability(s);
+          v.occupied = model.occupied(s);
+          if constexpr (std::equality_comparable<State>) {
+            v.observed = !(s == State{}) || space.observed(k);  // only unknown-looking states need the lookup
+          } else {
+            v.observed = space.observed(k);
+          }
+          v.first_visit = snapshot.contains(k) ? buf.bits.insert(snapshot.index_of(k)) : buf.visited.insert(k.pack());
+          // Features exist only for surface voxels (p ≥ 0.95, Sec. 4.5.1), which are occupied; look up only those.
+          v.features = (have_features && v.occupied) ? features.find(k) : nullptr;
+          v.direction = dir;
+          v.distance_m = (grid.center(k) - ray.origin).norm();
+          v.index = n++;
+          term.visit(v);
+          return true;
+        });
+      }
       term.end_ray(RayEnd{res.hit, res.voxels});
       voxel_count += res.voxels;
     }
-    ray_count = rays.size();
+    ray_count = buf.rays.size();
   }
   value = static_cast<double>(term.value());
 }
@@ -147,13 +184,14 @@ template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 
   std::vector<std::exception_ptr> errors(n);
   std::atomic<std::size_t> next{0};
+  const detail::PlanningSnapshot<Space> snapshot =
+      term_needs_rays<Term>() ? detail::PlanningSnapshot<Space>(space) : detail::PlanningSnapshot<Space>();
   const auto worker = [&] {
     Term term = prototype;
-    std::vector<Ray> rays;
-    detail::KeySet visited;
+    detail::EvaluationBuffers buf;
     for (std::size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
       try {
-        detail::evaluate_one(i, candidates[i], sensor, space, setting.sampling, term, rays, visited, r.values[i],
+        detail::evaluate_one(i, candidates[i], sensor, space, snapshot, setting.sampling, term, buf, r.values[i],
                              r.rays[i], r.voxels[i]);
       } catch (...) {
         errors[i] = std::current_exception();

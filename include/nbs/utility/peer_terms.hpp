@@ -52,7 +52,7 @@ public:
   void begin_ray() { vis_.reset(); }
   void visit(const VoxelVisit& v) {
     const double pv = vis_.advance(v.probability);
-    if (v.first_visit || !setting_.count_once) sum_ += pv * voxel_entropy(v.probability);
+    if (v.first_visit || !setting_.count_once) sum_ += pv * v.entropy();
   }
   void end_ray(const RayEnd&) {}
   [[nodiscard]] double value() const { return sum_; }
@@ -72,7 +72,7 @@ public:
   void begin_ray() { vis_.reset(); }
   void visit(const VoxelVisit& v) {
     const double pv = vis_.advance(v.probability);
-    if (!v.observed && (v.first_visit || !setting_.count_once)) sum_ += pv * voxel_entropy(v.probability);
+    if (!v.observed && (v.first_visit || !setting_.count_once)) sum_ += pv * v.entropy();
   }
   void end_ray(const RayEnd&) {}
   [[nodiscard]] double value() const { return sum_; }
@@ -123,7 +123,7 @@ public:
       sum_ += run_;
       run_ = 0.0;
     } else if (!v.observed) {
-      if (v.first_visit || !setting_.count_once) run_ += pv * voxel_entropy(v.probability);
+      if (v.first_visit || !setting_.count_once) run_ += pv * v.entropy();
     } else {
       run_ = 0.0;
     }
@@ -184,7 +184,7 @@ public:
   }
   void visit(const VoxelVisit& v) {
     if (!(v.first_visit || !setting_.count_once)) return;
-    ray_sum_ += voxel_entropy(v.probability);
+    ray_sum_ += v.entropy();
     ++ray_count_;
   }
   void end_ray(const RayEnd& e) {

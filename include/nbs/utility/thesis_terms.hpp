@@ -43,7 +43,7 @@ public:
   void begin_candidate(std::size_t) { sum_ = 0.0; }
   void begin_ray() {}
   void visit(const VoxelVisit& v) {
-    if (v.first_visit || !setting_.count_once) sum_ += voxel_entropy(v.probability);
+    if (v.first_visit || !setting_.count_once) sum_ += v.entropy();
   }
   void end_ray(const RayEnd&) {}
   /// e_v (bits per non-free voxel).

@@ -8,6 +8,7 @@
 #include "nbs/core/types.hpp"
 #include "nbs/space/surface_features.hpp"
 #include "nbs/space/voxel_key.hpp"
+#include "nbs/utility/utility_function.hpp"
 
 namespace nbs {
 
@@ -24,6 +25,12 @@ struct VoxelVisit {
   Vec3 direction = Vec3::UnitZ();              ///< unit ray direction, world frame
   double distance_m = 0.0;                     ///< distance from the ray origin to the voxel centre, metres
   std::uint32_t index = 0;                     ///< position along the ray: 0 for the first voxel visited
+  /// voxel_entropy(probability) in bits if the evaluator precomputed it (it does), else negative. Read it with
+  /// entropy(); a driver that changes `probability` must leave this negative.
+  double entropy_bits = -1.0;
+
+  /// H(p_i) in bits (the summand of Eq. 4.32): the precomputed value if set, else voxel_entropy(probability).
+  [[nodiscard]] double entropy() const { return entropy_bits >= 0.0 ? entropy_bits : voxel_entropy(probability); }
 };
 
 /// How a simulated beam ended.
