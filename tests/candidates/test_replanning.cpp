@@ -321,6 +321,28 @@ TEST_CASE("replan_candidates drops the enclosed candidate and keeps the order of
   CHECK(cs[1].index == 2);
 }
 
+TEST_CASE("oriented box vs AABB overlap (SAT) agrees with corner projections", "[replanning][collision]") {
+  // Boxes of comparable size with close centres, so that edge–edge separations (the 9 cross axes) occur.
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> size(0.01, 0.1);
+  int overlap = 0, apart = 0;
+  for (int i = 0; i < 20000; ++i) {
+    nbs::SensorHeadBox head;
+    head.center_m = Vec3::Zero();
+    head.size_m = Vec3(size(rng), size(rng), size(rng));
+    const Pose p = nbs::test::random_pose(rng, Vec3::Constant(-0.1), Vec3::Constant(0.1));
+    const Vec3 half(size(rng), size(rng), size(rng));
+    const Aabb b{-0.5 * half, 0.5 * half};
+    const bool sure = nbs::test::head_overlaps(head, p, b, -1e-9);
+    const bool maybe = nbs::test::head_overlaps(head, p, b, 1e-9);
+    if (sure != maybe) continue;
+    REQUIRE(nbs::detail::overlaps(head.at(p), b) == sure);
+    (sure ? overlap : apart) += 1;
+  }
+  CHECK(overlap > 1000);
+  CHECK(apart > 1000);
+}
+
 TEST_CASE("VoxelCollisionChecker agrees with the brute-force box oracle on random poses", "[replanning][collision]") {
   // Occupied plate at z ≈ 0.05, free (p = 0.01) column above it, unknown elsewhere inside the bounds; a table.
   const Aabb bounds{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};

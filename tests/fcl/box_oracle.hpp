@@ -72,8 +72,13 @@ std::vector<Aabb> obstacle_boxes(const Space& space, const CollisionSetting& s) 
 // grown by `margin`, -1 = too close to call.
 inline int oracle_collides(const std::vector<Aabb>& obstacles, const SensorHeadBox& head, const Pose& T_WS,
                            double margin) {
+  Aabb reach;  // world AABB of the grown head's corners: boxes outside it cannot meet the head
+  for (const Vec3& c : corners(T_WS * head.center_m, T_WS.linear(), (0.5 * head.size_m).array() + margin))
+    reach.extend(c);
   bool grown = false;
   for (const Aabb& b : obstacles) {
+    if ((b.max.array() + margin < reach.min.array()).any() || (b.min.array() - margin > reach.max.array()).any())
+      continue;
     if (head_overlaps(head, T_WS, b, -margin)) return 1;
     grown = grown || head_overlaps(head, T_WS, b, margin);
   }
