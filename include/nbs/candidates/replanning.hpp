@@ -200,7 +200,9 @@ template <PlanningSpace Space, CollisionChecker Checker>
   return report;
 }
 
-/// Alg. 3 on a ScanCandidate: pivot `aim.point`, targets `targets` (or `{aim}` if empty).
+/// Alg. 3 on a ScanCandidate: pivot `aim.point`, targets `targets` (or `{aim}` if empty). After a rotation with
+/// β_x ≠ 0 the path still runs along the old s_y (in the s'_y–s'_z plane): the aim is at d_s along s'_z from the
+/// path point of its own parameter, but ScanCandidate's invariant (offset from s'_p¹ ∥ s'_y) holds only for β_x = 0.
 template <PlanningSpace Space, CollisionChecker Checker>
 [[nodiscard]] ReplanReport replan(ScanCandidate& candidate, const Space& space, const Checker& checker,
                                   const SensorGeometry& sensor, const ReplanSetting& setting = {}) {
