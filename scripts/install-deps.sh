@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libnanoflann-dev libtinyobjloader-dev catch2 libbenchmark-dev
-  libembree-dev liboctomap-dev libfcl-dev
+  libembree-dev liboctomap-dev libfcl-dev nlohmann-json3-dev
   libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev libode-dev
 )
 if [[ "${1:-}" == "--with-plots" ]]; then packages+=(python3-matplotlib python3-numpy); fi

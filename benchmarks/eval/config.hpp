@@ -1,0 +1,301 @@
+#pragma once
+/// \file
+/// Command line and configuration file of nbs_eval. Everything is validated here, before any work starts.
+///
+/// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
+/// e.g. "voxel_size_m": 0.005, "max_scans": 30) and "sensor": a laser stripe profiler preset ("dlr_lsp",
+/// "scancontrol_2700_100"). Unknown keys, wrong types and out-of-range values are errors naming the key.
+
+#include <charconv>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nbs/core/parameters.hpp"
+#include "nbs/mesh/normalize.hpp"
+#include "nbs/planner/runtime_planner.hpp"
+#include "nbs/sensor/presets.hpp"
+
+namespace nbs::eval {
+
+/// A usage or input error: printed with the usage, exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The experiment's physical set-up, read from the config file.
+struct Setup {
+  Parameters params{};
+  std::string sensor = "dlr_lsp";
+};
+
+[[nodiscard]] inline LaserStripeProfiler sensor_preset(const std::string& name) {
+  if (name == "dlr_lsp") return presets::dlr_lsp();
+  if (name == "scancontrol_2700_100") return presets::scancontrol_2700_100();
+  if (name == "asus_xtion_pro" || name == "guppy_pro_stereo")
+    throw UsageError("sensor '" + name + "' is an area sensor; the runtime planner plans laser stripe scans only "
+                     "(valid: dlr_lsp, scancontrol_2700_100)");
+  throw UsageError("unknown sensor preset '" + name + "' (valid: dlr_lsp, scancontrol_2700_100)");
+}
+
+namespace detail {
+template <class T>
+void set_field(const nlohmann::json& v, const std::string& key, T& field) {
+  if constexpr (std::is_same_v<T, int>) {
+    if (!v.is_number_integer()) throw UsageError("config key '" + key + "' must be an integer, got " + v.dump());
+    const auto x = v.get<std::int64_t>();
+    if (x < -1000000000 || x > 1000000000) throw UsageError("config key '" + key + "' is out of range: " + v.dump());
+    field = static_cast<int>(x);
+  } else {
+    if (!v.is_number()) throw UsageError("config key '" + key + "' must be a number, got " + v.dump());
+    field = v.get<double>();
+  }
+}
+
+/// Calls f(name, field) for every Parameters field.
+template <class F>
+void for_each_parameter(Parameters& p, F&& f) {
+#define NBS_EVAL_FIELD(name) f(#name, p.name)
+  NBS_EVAL_FIELD(reduction_radius_m);
+  NBS_EVAL_FIELD(normal_radius_m);
+  NBS_EVAL_FIELD(mesh_radius_m);
+  NBS_EVAL_FIELD(voxel_size_m);
+  NBS_EVAL_FIELD(occupied_threshold);
+  NBS_EVAL_FIELD(boundary_penalty_threshold);
+  NBS_EVAL_FIELD(min_boundary_edges);
+  NBS_EVAL_FIELD(boundary_angle_rad);
+  NBS_EVAL_FIELD(scan_overlap);
+  NBS_EVAL_FIELD(planar_eigenvalue_max);
+  NBS_EVAL_FIELD(sharp_corner_rotation_rad);
+  NBS_EVAL_FIELD(hole_min_edges);
+  NBS_EVAL_FIELD(hole_max_edges);
+  NBS_EVAL_FIELD(hole_directions);
+  NBS_EVAL_FIELD(quality_weight);
+  NBS_EVAL_FIELD(quality_half_scans);
+  NBS_EVAL_FIELD(incidence_cutoff_rad);
+  NBS_EVAL_FIELD(target_coverage);
+  NBS_EVAL_FIELD(target_density);
+  NBS_EVAL_FIELD(max_scans);
+  NBS_EVAL_FIELD(mode_switch_gain);
+  NBS_EVAL_FIELD(object_size_m);
+  NBS_EVAL_FIELD(completeness_radius_m);
+  NBS_EVAL_FIELD(sphere_path_length_m);
+#undef NBS_EVAL_FIELD
+}
+}  // namespace detail
+
+/// Parameters + sensor as JSON (the keys the config file accepts, with their values).
+[[nodiscard]] inline nlohmann::json setup_json(Setup s) {
+  nlohmann::json j = nlohmann::json::object();
+  detail::for_each_parameter(s.params, [&](const char* name, auto& field) { j[name] = field; });
+  j["sensor"] = s.sensor;
+  return j;
+}
+
+/// Parses a config JSON text. `origin` names the source in messages. Throws UsageError.
+[[nodiscard]] inline Setup parse_setup(const std::string& text, const std::string& origin) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw UsageError(origin + ": not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw UsageError(origin + ": must be a JSON object");
+  Setup s;
+  for (const auto& [key, value] : j.items()) {
+    if (key == "sensor") {
+      if (!value.is_string()) throw UsageError(origin + ": config key 'sensor' must be a string");
+      s.sensor = value.get<std::string>();
+      (void)sensor_preset(s.sensor);
+      continue;
+    }
+    bool found = false;
+    try {
+      detail::for_each_parameter(s.params, [&](const char* name, auto& field) {
+        if (key == name) {
+          detail::set_field(value, key, field);
+          found = true;
+        }
+      });
+    } catch (const UsageError& e) {
+      throw UsageError(origin + ": " + e.what());
+    }
+    if (!found) {
+      std::string valid;
+      detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
+      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor)");
+    }
+  }
+  try {
+    s.params.validate();
+  } catch (const Error& e) {
+    throw UsageError(origin + ": out-of-range value: " + e.what());
+  }
+  return s;
+}
+
+[[nodiscard]] inline Setup load_setup(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UsageError("cannot read config file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_setup(ss.str(), "config file '" + path + "'");
+}
+
+/// Options of `nbs_eval` (the run command).
+struct Options {
+  std::string mesh;
+  double size_m = 0.16;
+  UpAxis up = UpAxis::z;
+  std::string up_name = "z";
+  std::vector<Method> methods;
+  int runs = 20;
+  int scans = 30;
+  bool scans_given = false;
+  std::uint64_t seed = 1;
+  unsigned threads = 2;
+  std::string out;
+  std::string config;
+  int shard_k = 1, shard_n = 1;  ///< this process runs the (method, run) pairs with index % n == k − 1
+};
+
+inline constexpr std::string_view kUsage =
+    "usage: nbs_eval --mesh PATH --out DIR [options]\n"
+    "       nbs_eval merge --out DIR SHARD_DIR...\n"
+    "Runs the thesis comparison (Sec. 4.7.2, Tab. 4.5) on a mesh: for each method and run r, a simulated\n"
+    "autonomous modeling from a seeded initial scan (the same for every method in run r) to n_abort scans.\n"
+    "options:\n"
+    "  --mesh PATH       OBJ or PLY mesh of the object (required)\n"
+    "  --size M          largest bounding-box extent after scaling, metres (default 0.16)\n"
+    "  --up x|y|z        axis of the file that points up (default z; the bundled bunny is y)\n"
+    "  --methods LIST    comma-separated method codes (default C_H), or 'all' / 'thesis' (the 12 R,I,Q,C x S,B,H)\n"
+    "  --runs N          runs per method, >= 1 (default 20)\n"
+    "  --scans N         n_abort, scans per run (default: max_scans of the config, 30)\n"
+    "  --seed N          base seed; run r uses a seed derived from (seed, r) only (default 1)\n"
+    "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
+    "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
+    "  --config FILE     JSON: any nbs::Parameters field by name, and \"sensor\": dlr_lsp | scancontrol_2700_100\n"
+    "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
+    "  --help            this text\n"
+    "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"
+    "the output of the unsharded run.\n"
+    "method codes: selection R(andom) I(G) Q(uality) C(IG+Quality) x search S(phere) B(oundary Search)\n"
+    "  H(BS + Hole Rescan); peer metrics with BS+HR: OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H. Valid codes:\n"
+    "  ";
+
+[[nodiscard]] inline std::string usage() {
+  std::string u(kUsage);
+  for (const Method& m : kAllMethods) u += format_method(m) + " ";
+  return u + "\n";
+}
+
+namespace detail {
+[[nodiscard]] inline long long parse_int(std::string_view s, const std::string& what) {
+  long long v = 0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || p != s.data() + s.size()) throw UsageError(what + ": not an integer: '" + std::string(s) + "'");
+  return v;
+}
+[[nodiscard]] inline std::uint64_t parse_u64(std::string_view s, const std::string& what) {
+  std::uint64_t v = 0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || p != s.data() + s.size())
+    throw UsageError(what + ": not a non-negative integer: '" + std::string(s) + "'");
+  return v;
+}
+[[nodiscard]] inline double parse_double(const std::string& s, const std::string& what) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty()) throw UsageError(what + ": not a number: '" + s + "'");
+  return v;
+}
+}  // namespace detail
+
+/// Parses the method list ("C_H,C_S", "all", "thesis"). Throws UsageError listing the valid codes.
+[[nodiscard]] inline std::vector<Method> parse_methods(const std::string& list) {
+  std::vector<Method> out;
+  if (list == "all") return {kAllMethods.begin(), kAllMethods.end()};
+  if (list == "thesis") return {kAllMethods.begin(), kAllMethods.begin() + 12};
+  std::size_t b = 0;
+  while (b <= list.size()) {
+    const std::size_t e = std::min(list.find(',', b), list.size());
+    try {
+      const Method m = parse_method(std::string_view(list).substr(b, e - b));
+      bool dup = false;
+      for (const Method& o : out) dup = dup || o == m;
+      if (!dup) out.push_back(m);
+    } catch (const Error& err) {
+      throw UsageError(std::string("--methods: ") + err.what());
+    }
+    b = e + 1;
+  }
+  return out;
+}
+
+/// Parses the run command's arguments (argv[0] excluded). Throws UsageError. Sets `help` for --help.
+[[nodiscard]] inline Options parse_options(const std::vector<std::string>& args, bool& help) {
+  Options o;
+  o.methods = {Method{}};
+  help = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--help" || a == "-h") {
+      help = true;
+      return o;
+    }
+    if (i + 1 >= args.size()) throw UsageError("unknown option or missing value: '" + a + "'");
+    const std::string& v = args[++i];
+    if (a == "--mesh") o.mesh = v;
+    else if (a == "--size") {
+      o.size_m = detail::parse_double(v, "--size");
+      if (!(o.size_m > 0.0 && o.size_m < 1e3)) throw UsageError("--size must be in (0, 1000) m, got " + v);
+    } else if (a == "--up") {
+      if (v == "x") o.up = UpAxis::x;
+      else if (v == "y") o.up = UpAxis::y;
+      else if (v == "z") o.up = UpAxis::z;
+      else throw UsageError("--up must be x, y or z, got '" + v + "'");
+      o.up_name = v;
+    } else if (a == "--methods") o.methods = parse_methods(v);
+    else if (a == "--runs") {
+      const long long n = detail::parse_int(v, "--runs");
+      if (n < 1 || n > 1000000) throw UsageError("--runs must be in [1, 1000000], got " + v);
+      o.runs = static_cast<int>(n);
+    } else if (a == "--scans") {
+      const long long n = detail::parse_int(v, "--scans");
+      if (n < 1 || n > 100000) throw UsageError("--scans must be in [1, 100000], got " + v);
+      o.scans = static_cast<int>(n);
+      o.scans_given = true;
+    } else if (a == "--seed") o.seed = detail::parse_u64(v, "--seed");
+    else if (a == "--threads") {
+      const long long n = detail::parse_int(v, "--threads");
+      if (n < 1 || n > 1024) throw UsageError("--threads must be in [1, 1024], got " + v);
+      o.threads = static_cast<unsigned>(n);
+    } else if (a == "--out") o.out = v;
+    else if (a == "--config") o.config = v;
+    else if (a == "--shard") {
+      const std::size_t slash = v.find('/');
+      if (slash == std::string::npos) throw UsageError("--shard must be K/N, got '" + v + "'");
+      const long long k = detail::parse_int(std::string_view(v).substr(0, slash), "--shard K");
+      const long long n = detail::parse_int(std::string_view(v).substr(slash + 1), "--shard N");
+      if (n < 1 || n > 100000 || k < 1 || k > n) throw UsageError("--shard K/N needs 1 <= K <= N, got '" + v + "'");
+      o.shard_k = static_cast<int>(k);
+      o.shard_n = static_cast<int>(n);
+    } else throw UsageError("unknown option '" + a + "'");
+  }
+  if (o.mesh.empty()) throw UsageError("--mesh is required");
+  if (o.out.empty()) throw UsageError("--out is required");
+  return o;
+}
+
+}  // namespace nbs::eval

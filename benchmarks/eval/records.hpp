@@ -1,0 +1,225 @@
+#pragma once
+/// \file
+/// One evaluation run as a JSON line (runs.jsonl) and the summary files (summary.json / .md / .csv, Tab. 4.5).
+/// Every number is SI (metres, seconds); coverages are fractions in [0, 1] in JSON and percent in .md / .csv.
+
+#include <cstdint>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "eval/summary.hpp"
+#include "nbs/planner/runtime_planner.hpp"
+
+namespace nbs::eval {
+
+using Json = nlohmann::json;
+
+/// The state after one scan of a run.
+struct ScanRow {
+  double c_m = 0;          ///< ĉ_m, estimated mesh coverage (Eq. 4.35)
+  double d_m = 0;          ///< d̄_m, mean relative point density (Eqs. 4.24–4.25)
+  double c_a = 0;          ///< actual completeness of the generated mesh's vertices (non-bottom samples)
+  double c_b = 0;          ///< the same over all samples (bottom included)
+  double e_bar_m = 0;      ///< ē, RMS distance of the mesh vertices to the true surface
+  double l_s_m = 0;        ///< l_s, summed scan path length so far
+  double t_nbs_s = 0;      ///< time of the planning step that chose this scan (0 for the first scan)
+  std::size_t candidates = 0;  ///< candidates scored in that planning step (0 for the first scan)
+  std::string mode;        ///< "init" (first scan), "BS" or "HR": the mode the scan was planned in
+};
+
+/// One (method, run) of the experiment.
+struct RunRecord {
+  std::string method;   ///< method code, e.g. "C_H"
+  int run = 0;          ///< 0-based run index
+  std::uint64_t seed = 0;  ///< seed of the run (initial scan, sensor noise, Random selection)
+  int initial_index = 0;   ///< which of the 13 initial scan paths (Sec. 4.7.2)
+  int n_abort = 30;     ///< scan limit
+  int n_s = 30;         ///< first scan after which ĉ_m and d̄_m reached their targets, else n_abort
+  std::string stop;     ///< "max_scans", "no_candidates" (loop ended early) or "done"
+  double c_obs = 0;     ///< observability ceiling of the mesh
+  std::vector<ScanRow> scans;
+};
+
+[[nodiscard]] inline Json to_json(const RunRecord& r) {
+  Json s = Json::object();
+  const auto col = [&](const char* key, auto get) {
+    Json a = Json::array();
+    for (const ScanRow& row : r.scans) a.push_back(get(row));
+    s[key] = std::move(a);
+  };
+  col("c_m", [](const ScanRow& x) { return x.c_m; });
+  col("d_m", [](const ScanRow& x) { return x.d_m; });
+  col("c_a", [](const ScanRow& x) { return x.c_a; });
+  col("c_b", [](const ScanRow& x) { return x.c_b; });
+  col("e_bar_m", [](const ScanRow& x) { return x.e_bar_m; });
+  col("l_s_m", [](const ScanRow& x) { return x.l_s_m; });
+  col("t_nbs_s", [](const ScanRow& x) { return x.t_nbs_s; });
+  col("candidates", [](const ScanRow& x) { return x.candidates; });
+  col("mode", [](const ScanRow& x) { return x.mode; });
+  return Json{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
+              {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
+              {"scans", std::move(s)}};
+}
+
+/// Parses a runs.jsonl line. Throws std::runtime_error (or a json exception) on a malformed line.
+[[nodiscard]] inline RunRecord record_from_json(const Json& j) {
+  RunRecord r;
+  r.method = j.at("method").get<std::string>();
+  r.run = j.at("run").get<int>();
+  r.seed = j.at("seed").get<std::uint64_t>();
+  r.initial_index = j.at("initial_index").get<int>();
+  r.n_abort = j.at("n_abort").get<int>();
+  r.n_s = j.at("n_s").get<int>();
+  r.stop = j.at("stop").get<std::string>();
+  r.c_obs = j.at("c_obs").get<double>();
+  const Json& s = j.at("scans");
+  const std::size_t n = s.at("c_a").size();
+  for (const char* key : {"c_m", "d_m", "c_b", "e_bar_m", "l_s_m", "t_nbs_s", "candidates", "mode"})
+    if (s.at(key).size() != n) throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
+  if (n == 0) throw std::runtime_error("run without scans");
+  r.scans.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ScanRow& x = r.scans[i];
+    x.c_m = s["c_m"][i].get<double>();
+    x.d_m = s["d_m"][i].get<double>();
+    x.c_a = s["c_a"][i].get<double>();
+    x.c_b = s["c_b"][i].get<double>();
+    x.e_bar_m = s["e_bar_m"][i].get<double>();
+    x.l_s_m = s["l_s_m"][i].get<double>();
+    x.t_nbs_s = s["t_nbs_s"][i].get<double>();
+    x.candidates = s["candidates"][i].get<std::size_t>();
+    x.mode = s["mode"][i].get<std::string>();
+  }
+  return r;
+}
+
+/// The Tab. 4.5 contribution of one run: c_a(n_s), c_a at the last scan, l_s at the last scan, mean t_nbs over the
+/// planning steps (scans 2…), c_obs.
+[[nodiscard]] inline RunOutcome outcome(const RunRecord& r) {
+  RunOutcome o;
+  o.n_s = r.n_s;
+  const std::size_t at = std::min<std::size_t>(static_cast<std::size_t>(std::max(r.n_s, 1)), r.scans.size()) - 1;
+  o.ca_at_stop = r.scans[at].c_a;
+  o.ca_at_end = r.scans.back().c_a;
+  o.path_length_m = r.scans.back().l_s_m;
+  double t = 0.0;
+  for (std::size_t i = 1; i < r.scans.size(); ++i) t += r.scans[i].t_nbs_s;
+  o.mean_t_nbs_s = r.scans.size() > 1 ? t / static_cast<double>(r.scans.size() - 1) : 0.0;
+  o.c_obs = r.c_obs;
+  return o;
+}
+
+/// Position of a method code in kAllMethods (thesis order first), for sorting.
+[[nodiscard]] inline std::size_t method_rank(const std::string& code) {
+  const Method m = parse_method(code);
+  for (std::size_t i = 0; i < kAllMethods.size(); ++i)
+    if (kAllMethods[i] == m) return i;
+  return kAllMethods.size();
+}
+
+/// Sorts by (method in kAllMethods order, run).
+inline void sort_records(std::vector<RunRecord>& v) {
+  std::stable_sort(v.begin(), v.end(), [](const RunRecord& a, const RunRecord& b) {
+    const std::size_t ra = method_rank(a.method), rb = method_rank(b.method);
+    return ra != rb ? ra < rb : a.run < b.run;
+  });
+}
+
+/// Summary rows, one per method present, in kAllMethods order.
+[[nodiscard]] inline std::vector<MethodSummary> summarize_records(std::vector<RunRecord> v) {
+  sort_records(v);
+  std::vector<MethodSummary> out;
+  for (std::size_t i = 0; i < v.size();) {
+    std::vector<RunOutcome> o;
+    std::size_t j = i;
+    for (; j < v.size() && v[j].method == v[i].method; ++j) o.push_back(outcome(v[j]));
+    out.push_back(summarize(v[i].method, o));
+    i = j;
+  }
+  return out;
+}
+
+[[nodiscard]] inline Json summary_json(const std::vector<MethodSummary>& rows) {
+  Json j = Json::object();
+  for (const MethodSummary& s : rows)
+    j[s.method] = Json{{"runs", s.runs},
+                       {"median_scans", s.median_scans},
+                       {"q1_scans", s.q1_scans},
+                       {"q3_scans", s.q3_scans},
+                       {"notch", s.notch},
+                       {"mean_ca_at_stop", s.mean_ca_at_stop},
+                       {"mean_ca_at_30", s.mean_ca_at_30},
+                       {"mean_path_length_m", s.mean_path_length_m},
+                       {"mean_t_nbs_s", s.mean_t_nbs_s},
+                       {"mean_c_obs", s.mean_c_obs}};
+  return j;
+}
+
+/// Long names of Tab. 4.5: selection ("Random", "IG", "Quality", "IG/Quality", else the peer code) and search.
+[[nodiscard]] inline std::string selection_name(const Method& m) {
+  switch (m.selection) {
+    case Selection::random: return "Random";
+    case Selection::information_gain: return "IG";
+    case Selection::quality: return "Quality";
+    case Selection::ig_quality: return "IG/Quality";
+    default: return std::string(format_selection(m.selection));
+  }
+}
+[[nodiscard]] inline std::string search_name(const Method& m) {
+  switch (m.search) {
+    case SearchSpace::sphere: return "Sphere";
+    case SearchSpace::boundary: return "BS";
+    case SearchSpace::boundary_hole: return "BS/HR";
+  }
+  return "?";
+}
+
+namespace detail {
+[[nodiscard]] inline std::string fixed(double v, int digits) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(digits) << v;
+  return o.str();
+}
+}  // namespace detail
+
+/// summary.md: Tab. 4.5 layout (coverages in percent), plus runs and c_obs.
+[[nodiscard]] inline std::string summary_markdown(const std::vector<MethodSummary>& rows, int n_abort) {
+  using detail::fixed;
+  std::ostringstream o;
+  const std::string ab = std::to_string(n_abort);
+  o << "| Method | Selection | Search | runs | median n_s | Notch | mean c_a(n_s) % | mean c_a(" << ab
+    << ") % | mean l_s / m | mean t_nbs / s | c_obs % |\n";
+  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const MethodSummary& s : rows) {
+    const Method m = parse_method(s.method);
+    o << "| " << s.method << " | " << selection_name(m) << " | " << search_name(m) << " | " << s.runs << " | "
+      << fixed(s.median_scans, 1) << " | ±" << fixed(s.notch, 2) << " | " << fixed(100.0 * s.mean_ca_at_stop, 2)
+      << " | " << fixed(100.0 * s.mean_ca_at_30, 2) << " | " << fixed(s.mean_path_length_m, 2) << " | "
+      << fixed(s.mean_t_nbs_s, 2) << " | " << fixed(100.0 * s.mean_c_obs, 2) << " |\n";
+  }
+  return o.str();
+}
+
+/// summary.csv: the same columns, full precision, coverages in percent.
+[[nodiscard]] inline std::string summary_csv(const std::vector<MethodSummary>& rows) {
+  std::ostringstream o;
+  o << std::setprecision(10);
+  o << "method,selection,search,runs,median_n_s,notch,mean_c_a_at_n_s_percent,mean_c_a_at_n_abort_percent,"
+       "mean_l_s_m,mean_t_nbs_s,c_obs_percent\n";
+  for (const MethodSummary& s : rows) {
+    const Method m = parse_method(s.method);
+    o << s.method << ',' << selection_name(m) << ',' << search_name(m) << ',' << s.runs << ',' << s.median_scans
+      << ',' << s.notch << ',' << 100.0 * s.mean_ca_at_stop << ',' << 100.0 * s.mean_ca_at_30 << ','
+      << s.mean_path_length_m << ',' << s.mean_t_nbs_s << ',' << 100.0 * s.mean_c_obs << '\n';
+  }
+  return o.str();
+}
+
+}  // namespace nbs::eval

@@ -1,0 +1,291 @@
+// nbs_eval (issue 6): statistics against hand-computed values (type-7 quantiles, Eq. 4.41 notch, means), run
+// outcome and summary, config-file and CLI errors (before any work), and shards merged == the unsharded run.
+
+#include <catch2/catch.hpp>
+
+#include "eval/main.hpp"  // first: includes the planner headers
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using nbs::eval::Json;
+
+namespace {
+
+std::vector<double> v(std::initializer_list<double> x) { return x; }
+
+/// A fresh, empty temporary directory removed at scope exit.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("nbs_eval_test_" + name)) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+int run_cli(const std::vector<std::string>& args, std::string& log) {
+  std::vector<const char*> argv{"nbs_eval"};
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  const int rc = nbs::eval::main(static_cast<int>(argv.size()), argv.data(), out, err);
+  log = out.str() + err.str();
+  return rc;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<Json> lines_of(const fs::path& p) {
+  std::vector<Json> out;
+  std::istringstream in(read(p));
+  std::string l;
+  while (std::getline(in, l))
+    if (!l.empty()) out.push_back(Json::parse(l));
+  return out;
+}
+
+/// Removes the wall-clock fields (the only ones that differ between identical runs).
+Json without_timing(Json j) {
+  if (j.contains("scans")) j["scans"].erase("t_nbs_s");
+  for (auto& [k, row] : j.items())
+    if (row.is_object()) row.erase("mean_t_nbs_s");
+  return j;
+}
+
+nbs::eval::RunRecord hand_record() {
+  nbs::eval::RunRecord r;
+  r.method = "C_H";
+  r.run = 3;
+  r.seed = 42;
+  r.initial_index = 7;
+  r.n_abort = 3;
+  r.n_s = 2;
+  r.stop = "max_scans";
+  r.c_obs = 0.95;
+  const double ca[] = {0.5, 0.8, 0.9}, ls[] = {0.1, 0.3, 0.6}, t[] = {0.0, 1.0, 3.0};
+  for (int i = 0; i < 3; ++i) {
+    nbs::eval::ScanRow row;
+    row.c_a = ca[i];
+    row.c_b = ca[i] - 0.1;
+    row.c_m = 0.4 * (i + 1);
+    row.d_m = 0.1 * (i + 1);
+    row.e_bar_m = 0.001;
+    row.l_s_m = ls[i];
+    row.t_nbs_s = t[i];
+    row.candidates = static_cast<std::size_t>(10 * i);
+    row.mode = i == 0 ? "init" : "BS";
+    r.scans.push_back(row);
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("quantiles: type 7 (linear between order statistics at (n-1)p)", "[eval]") {
+  const auto a = v({4, 1, 3, 2});  // sorted 1 2 3 4
+  CHECK(nbs::eval::quantile(a, 0.25) == Approx(1.75));  // h = 0.75
+  CHECK(nbs::eval::median(a) == Approx(2.5));           // h = 1.5
+  CHECK(nbs::eval::quantile(a, 0.75) == Approx(3.25));  // h = 2.25
+  CHECK(nbs::eval::quantile(a, 0.0) == 1.0);
+  CHECK(nbs::eval::quantile(a, 1.0) == 4.0);
+  CHECK(nbs::eval::iqr(a) == Approx(1.5));
+  const auto b = v({7, 1, 3, 9, 5});  // sorted 1 3 5 7 9: Q1 = 3, Q3 = 7 exactly
+  CHECK(nbs::eval::median(b) == 5.0);
+  CHECK(nbs::eval::iqr(b) == 4.0);
+  CHECK(nbs::eval::quantile(v({10, 20}), 0.3) == Approx(13.0));
+  CHECK(nbs::eval::median(v({6})) == 6.0);
+  CHECK_THROWS_AS(nbs::eval::quantile(std::vector<double>{}, 0.5), std::invalid_argument);
+  CHECK_THROWS_AS(nbs::eval::quantile(a, 1.5), std::invalid_argument);
+}
+
+TEST_CASE("notch of Eq. 4.41 and mean", "[eval]") {
+  CHECK(nbs::eval::notch(v({4, 1, 3, 2})) == Approx(1.57 * 1.5 / 2.0));        // 1.1775
+  CHECK(nbs::eval::notch(v({7, 1, 3, 9, 5})) == Approx(1.57 * 4.0 / std::sqrt(5.0)));
+  CHECK(nbs::eval::notch(v({10, 10, 10})) == 0.0);
+  // 100 runs, IQR 3 (the thesis's s = 100): ±0.471, as C_H's ±0.47 in Tab. 4.5.
+  std::vector<double> hundred;
+  for (int i = 0; i < 100; ++i) hundred.push_back(i < 25 ? 9 : i < 75 ? 10 : 12);
+  CHECK(nbs::eval::iqr(hundred) == Approx(3.0));  // Q1: h = 24.75 -> 9 + 0.75·1; Q3: h = 74.25 -> 10 + 0.25·2
+  CHECK(nbs::eval::notch(hundred) == Approx(0.471));
+  CHECK(nbs::eval::mean(v({1, 2, 3, 4})) == 2.5);
+  CHECK_THROWS_AS(nbs::eval::mean(std::vector<double>{}), std::invalid_argument);
+}
+
+TEST_CASE("run outcome and method summary", "[eval]") {
+  const nbs::eval::RunRecord r = hand_record();
+  const nbs::eval::RunOutcome o = nbs::eval::outcome(r);
+  CHECK(o.n_s == 2);
+  CHECK(o.ca_at_stop == 0.8);     // c_a after scan 2
+  CHECK(o.ca_at_end == 0.9);      // c_a after the last scan
+  CHECK(o.path_length_m == 0.6);  // l_s over all scans
+  CHECK(o.mean_t_nbs_s == Approx(2.0));  // planning steps 2 and 3: (1 + 3) / 2
+  CHECK(o.c_obs == 0.95);
+
+  nbs::eval::RunRecord r2 = r;
+  r2.run = 4;
+  r2.n_s = 3;
+  r2.scans[2].c_a = 0.7;
+  r2.scans[2].l_s_m = 1.0;
+  const auto rows = nbs::eval::summarize_records({r2, r});
+  REQUIRE(rows.size() == 1);
+  const nbs::eval::MethodSummary& s = rows[0];
+  CHECK(s.method == "C_H");
+  CHECK(s.runs == 2);
+  CHECK(s.median_scans == Approx(2.5));
+  CHECK(s.notch == Approx(1.57 * 0.5 / std::sqrt(2.0)));  // IQR of {2, 3} = 2.75 − 2.25
+  CHECK(s.mean_ca_at_stop == Approx((0.8 + 0.7) / 2));   // r2 stops at scan 3 (c_a 0.7)
+  CHECK(s.mean_ca_at_30 == Approx((0.9 + 0.7) / 2));
+  CHECK(s.mean_path_length_m == Approx((0.6 + 1.0) / 2));
+  CHECK(s.mean_t_nbs_s == Approx(2.0));
+  CHECK(s.mean_c_obs == Approx(0.95));
+
+  const Json js = nbs::eval::summary_json(rows);
+  for (const char* key : {"runs", "median_scans", "notch", "mean_ca_at_stop", "mean_ca_at_30", "mean_path_length_m",
+                          "mean_t_nbs_s", "mean_c_obs"})
+    CHECK(js.at("C_H").contains(key));
+  const std::string md = nbs::eval::summary_markdown(rows, 3);
+  CHECK(md.find("| C_H | IG/Quality | BS/HR | 2 | 2.5 | ±0.56 | 75.00 | 80.00 | 0.80 | 2.00 | 95.00 |") !=
+        std::string::npos);
+}
+
+TEST_CASE("run record JSON round trip", "[eval]") {
+  const nbs::eval::RunRecord r = hand_record();
+  const Json j = nbs::eval::to_json(r);
+  const nbs::eval::RunRecord back = nbs::eval::record_from_json(Json::parse(j.dump()));
+  CHECK(nbs::eval::to_json(back) == j);
+  CHECK(back.scans[1].candidates == 10);
+  CHECK(back.scans[0].mode == "init");
+  Json broken = j;
+  broken["scans"]["c_b"].erase(0);
+  CHECK_THROWS(nbs::eval::record_from_json(broken));
+}
+
+TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
+  const nbs::eval::Setup s =
+      nbs::eval::parse_setup(R"({"voxel_size_m": 0.004, "max_scans": 12, "sensor": "scancontrol_2700_100"})", "cfg");
+  CHECK(s.params.voxel_size_m == 0.004);
+  CHECK(s.params.max_scans == 12);
+  CHECK(s.params.target_coverage == nbs::Parameters{}.target_coverage);
+  CHECK(s.sensor == "scancontrol_2700_100");
+  const auto error_of = [](const std::string& text) -> std::string {
+    try {
+      (void)nbs::eval::parse_setup(text, "cfg");
+    } catch (const nbs::eval::UsageError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), Catch::Contains("unknown config key 'voxel_size'"));
+  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), Catch::Contains("voxel_size_m"));  // lists the valid keys
+  CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), Catch::Contains("scan_overlap"));
+  CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), Catch::Contains("out-of-range"));
+  CHECK_THAT(error_of(R"({"max_scans": 0})"), Catch::Contains("max_scans"));
+  CHECK_THAT(error_of(R"({"max_scans": 2.5})"), Catch::Contains("'max_scans' must be an integer"));
+  CHECK_THAT(error_of(R"({"voxel_size_m": "small"})"), Catch::Contains("'voxel_size_m' must be a number"));
+  CHECK_THAT(error_of(R"({"sensor": "kinect"})"), Catch::Contains("unknown sensor preset 'kinect'"));
+  CHECK_THAT(error_of(R"({"sensor": "asus_xtion_pro"})"), Catch::Contains("area sensor"));
+  CHECK_THAT(error_of(R"([1, 2])"), Catch::Contains("JSON object"));
+  CHECK_THAT(error_of(R"({"voxel_size_m": )"), Catch::Contains("not valid JSON"));
+}
+
+TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
+  TempDir tmp("badinput");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  const std::string out = (tmp.path / "out").string();
+  std::string log;
+  const auto rejected = [&](std::vector<std::string> args, const std::string& needle) {
+    const int rc = run_cli(args, log);
+    INFO(log);
+    CHECK(rc == 2);
+    CHECK_THAT(log, Catch::Contains(needle));
+    CHECK(!fs::exists(out));  // nothing written
+  };
+  rejected({"--mesh", bunny, "--out", out, "--methods", "C_H,X_Y"}, "unknown planning method 'X_Y'");
+  rejected({"--mesh", bunny, "--out", out, "--methods", "X_Y"}, "valid codes: R_S");
+  rejected({"--mesh", bunny, "--out", out, "--runs", "0"}, "--runs must be in [1");
+  rejected({"--mesh", bunny, "--out", out, "--shard", "3/2"}, "--shard K/N needs 1 <= K <= N");
+  rejected({"--mesh", bunny, "--out", out, "--shard", "0/2"}, "--shard K/N needs 1 <= K <= N");
+  rejected({"--mesh", bunny, "--out", out, "--shard", "12"}, "--shard must be K/N");
+  rejected({"--mesh", bunny, "--out", out, "--up", "w"}, "--up must be x, y or z");
+  rejected({"--mesh", bunny, "--out", out, "--frobnicate", "1"}, "unknown option '--frobnicate'");
+  rejected({"--out", out}, "--mesh is required");
+  const fs::path cfg = tmp.path / "bad.json";
+  std::ofstream(cfg) << R"({"target_coverage": 2.0})";
+  rejected({"--mesh", bunny, "--out", out, "--config", cfg.string()}, "target_coverage");
+  const fs::path text = tmp.path / "notamesh.obj";
+  std::ofstream(text) << "this is not a mesh\n";
+  rejected({"--mesh", text.string(), "--out", out}, "not a mesh");
+  rejected({"--mesh", (tmp.path / "missing.ply").string(), "--out", out}, "missing.ply");
+  CHECK(run_cli({"--help"}, log) == 0);
+  CHECK_THAT(log, Catch::Contains("--shard K/N"));
+  CHECK_THAT(log, Catch::Contains("VG_H"));
+}
+
+TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finished runs", "[eval][slow]") {
+  TempDir tmp("merge");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  const std::vector<std::string> common{"--mesh", bunny, "--up", "y", "--size", "0.05", "--methods", "C_H",
+                                        "--runs", "2", "--scans", "2", "--seed", "7"};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = common;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  const fs::path full = tmp.path / "full", s1 = tmp.path / "s1", s2 = tmp.path / "s2", merged = tmp.path / "merged";
+  std::string log;
+  REQUIRE(run_cli(with({"--threads", "2", "--out", full.string()}), log) == 0);
+  INFO(log);
+  REQUIRE(run_cli(with({"--threads", "1", "--shard", "1/2", "--out", s1.string()}), log) == 0);
+  REQUIRE(run_cli(with({"--threads", "1", "--shard", "2/2", "--out", s2.string()}), log) == 0);
+  CHECK(lines_of(s1 / "runs.jsonl").size() == 1);
+  CHECK(lines_of(s2 / "runs.jsonl").size() == 1);
+  REQUIRE(run_cli({"merge", "--out", merged.string(), s2.string(), s1.string()}, log) == 0);
+
+  const std::vector<Json> a = lines_of(full / "runs.jsonl"), b = lines_of(merged / "runs.jsonl");
+  REQUIRE(a.size() == 2);
+  REQUIRE(b.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(a[i]["method"] == "C_H");
+    CHECK(a[i]["run"] == static_cast<int>(i));  // sorted by (method, run)
+    CHECK(a[i]["scans"]["c_a"].size() <= 2);
+    CHECK(without_timing(a[i]) == without_timing(b[i]));
+  }
+  // The same initial scan would be used by every method in run r: it depends on (seed, r) only.
+  CHECK(a[0]["seed"].get<std::uint64_t>() == nbs::eval::run_seed(7, 0));
+  CHECK(a[1]["seed"].get<std::uint64_t>() == nbs::eval::run_seed(7, 1));
+  CHECK(a[0]["initial_index"].get<int>() == nbs::random_initial_scan_index(nbs::eval::run_seed(7, 0)));
+  CHECK(read(full / "eval.json") == read(merged / "eval.json"));
+  CHECK(without_timing(Json::parse(read(full / "summary.json"))) ==
+        without_timing(Json::parse(read(merged / "summary.json"))));
+  const Json sj = Json::parse(read(merged / "summary.json"));
+  CHECK(sj.at("C_H").at("runs") == 2);
+  CHECK(sj.at("C_H").at("mean_c_obs").get<double>() == a[0]["c_obs"].get<double>());
+
+  // Interrupted run: a partial last line. The rerun keeps the finished lines, skips them and drops the fragment.
+  { std::ofstream(full / "runs.jsonl", std::ios::app) << R"({"method":"C_H","run":1,"se)"; }
+  REQUIRE(run_cli(with({"--threads", "2", "--out", full.string()}), log) == 0);
+  CHECK_THAT(log, Catch::Contains("2 finished runs found"));
+  CHECK_THAT(log, Catch::Contains("skipping unreadable line"));
+  const std::vector<Json> again = lines_of(full / "runs.jsonl");
+  REQUIRE(again.size() == 2);
+  CHECK(again[0] == a[0]);
+  CHECK(again[1] == a[1]);
+  // A different configuration in the same --out is refused.
+  CHECK(run_cli({"--mesh", bunny, "--up", "y", "--size", "0.06", "--methods", "C_H", "--runs", "2", "--scans", "2",
+                 "--seed", "7", "--out", full.string()},
+                log) == 2);
+  CHECK_THAT(log, Catch::Contains("different configuration"));
+}
