@@ -21,8 +21,7 @@ struct BoundarySearchSetting {
   void validate() const {
     detail::require(std::isfinite(region_fraction) && region_fraction > 0.0 && region_fraction <= 1.0,
                     "BoundarySearch.region_fraction must be in (0, 1], got ", region_fraction);
-    detail::require(std::isfinite(step_fraction) && step_fraction > 0.0 && step_fraction <= 0.5,
-                    "BoundarySearch.step_fraction must be in (0, 0.5], got ", step_fraction);
+    detail::require_in_range("BoundarySearch.step_fraction", step_fraction, 1e-4, 0.5);  // bounds the walk
     detail::require(std::isfinite(max_step_angle_rad) && max_step_angle_rad > 0.0 &&
                         max_step_angle_rad <= std::numbers::pi,
                     "BoundarySearch.max_step_angle_rad must be in (0, pi], got ", max_step_angle_rad);

@@ -26,7 +26,7 @@ struct HoleRescanSetting {
     detail::require_non_negative("HoleRescan.start_offset_voxels", start_offset_voxels);
     detail::require_in_range("HoleRescan.selection_fraction", selection_fraction, 0.0, 1.0);
     detail::require_non_negative("HoleRescan.merge_distance_m", merge_distance_m);
-    detail::require_in_range("HoleRescan.merge_angle_rad", merge_angle_rad, 0.0, std::numbers::pi);
+    detail::require_in_range("HoleRescan.merge_angle_rad", merge_angle_rad, 0.0, std::numbers::pi / 2);
     detail::require_in_range("HoleRescan.end_margin", end_margin, 0.0, 10.0);
   }
 };
