@@ -15,6 +15,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string_view>
 #include <functional>
 #include <numbers>
 #include <vector>
@@ -258,6 +260,8 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  headlines();
+  // NBS_BENCH_NO_HEADLINES=1: only the Google Benchmark cases (e.g. under callgrind with --benchmark_filter).
+  const char* skip = std::getenv("NBS_BENCH_NO_HEADLINES");
+  if (skip == nullptr || std::string_view(skip) != "1") headlines();
   return 0;
 }

@@ -1,22 +1,64 @@
 #pragma once
 /// \file
-/// The native voxel backend: a hash map of 8³ blocks, each a flat array of states (after Bonxai / Dymodda).
+/// The native voxel backend: a hash map of 8³ blocks (after Bonxai / Dymodda), with optional flushing of cold blocks
+/// to disk and transparent reload.
 ///
 /// The space grows in any direction (a block is allocated when one of its voxels is first written, the role of the
-/// multiple octrees of Dymodda, Fig. 3.11). Each block also carries one 8-bit stamp per voxel, used by
-/// ProbabilisticVoxelSpace to update a voxel at most once per scan (beam independence, Sec. 3.3.2), and a bit mask
-/// of observed voxels. Thread-safety: concurrent const calls are safe; writes need exclusive access.
+/// multiple octrees of Dymodda, Fig. 3.11). A block holds the voxel states in the layout of `BlockStates<State>`
+/// (block_states.hpp), a bit mask of observed voxels, and a bit mask of the voxels updated in the current scan, used
+/// by ProbabilisticVoxelSpace to update a voxel at most once per scan (beam independence, Sec. 3.3.2).
+///
+/// Flushing (off by default, `set_flush_policy`): after each scan (`end_scan`, called by ProbabilisticVoxelSpace)
+/// blocks not written for `idle_scans` scans, then least recently written blocks while memory_bytes() exceeds
+/// `memory_budget_bytes`, are written to a per-space folder (temporary file, then std::filesystem::rename into
+/// place) and dropped from memory. A failed write loses nothing: the block stays in memory, the error is counted and
+/// kept in flush_stats() (the explicit `flush_*` calls throw FileError instead). A write access to a flushed block
+/// reloads it (and deletes its file); a const access reads the file into a temporary without caching, so const
+/// calls stay free of shared mutable state.
+///
+/// Thread-safety: concurrent const calls are safe (also on flushed blocks: they only read files); writes, end_scan and
+/// the flush calls need exclusive access. Const calls on a flushed block throw FileError if its file cannot be read.
 
-#include <array>
+#include <algorithm>
+#include <atomic>
 #include <bit>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <string>
+#include <system_error>
 #include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
 
+#include "nbs/core/error.hpp"
+#include "nbs/space/block_states.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 namespace nbs {
+
+/// When HashedBlockBackend writes cold blocks to disk. Flushing is on when `directory` is set and idle_scans > 0 or
+/// memory_budget_bytes > 0.
+struct BlockFlushSetting {
+  /// Parent folder; the backend creates its own sub-folder `nbs-blocks-<n>` there at the first flush and deletes it
+  /// when destroyed.
+  std::filesystem::path directory;
+  std::uint32_t idle_scans = 0;           ///< flush blocks not written during the last idle_scans scans (0 = off)
+  std::size_t memory_budget_bytes = 0;    ///< then flush LRU blocks until memory_bytes() ≤ this (0 = off)
+};
+
+/// What flushing has done so far.
+struct BlockFlushStats {
+  std::uint64_t blocks_written = 0;   ///< blocks flushed to disk
+  std::uint64_t blocks_reloaded = 0;  ///< flushed blocks brought back by a write access
+  std::uint64_t failed_writes = 0;    ///< flushes that failed (the block stayed in memory)
+  std::string last_error;             ///< message of the last failed flush ("" if none)
+};
 
 /// Hashed 8³-block storage of `StateT` per voxel. Models VoxelBackend.
 template <class StateT>
@@ -26,13 +68,18 @@ public:
   static constexpr int kEdgeBits = 3;                 ///< block edge = 2^3 voxels
   static constexpr int kEdge = 1 << kEdgeBits;        ///< 8
   static constexpr int kVoxels = kEdge * kEdge * kEdge;  ///< 512 voxels per block
+  static_assert(kVoxels == kBlockVoxels);
 
   /// One 8³ block; voxel (lx, ly, lz) ∈ [0, 8)³ is at index lx + 8·ly + 64·lz.
   struct Block {
-    std::array<State, kVoxels> state{};                    ///< State{} = unknown
-    std::array<std::uint8_t, kVoxels> stamp{};             ///< scan epoch of the last update (0 = none)
+    BlockStates<State> states;                             ///< State{} = unknown
     std::array<std::uint64_t, kVoxels / 64> observed{};    ///< bit i set once voxel i was written
+    std::array<std::uint64_t, kVoxels / 64> touched{};     ///< bit i: voxel i updated in scan `scan`
+    std::uint32_t scan = 0;                                ///< epoch the touched mask belongs to
+    std::uint32_t last_written = 0;                        ///< epoch of the last write access (LRU)
 
+    [[nodiscard]] State get(int i) const { return states.load(i); }
+    void put(int i, const State& s) { states.store(i, s); }
     [[nodiscard]] bool is_observed(int i) const { return (observed[i >> 6] >> (i & 63)) & 1u; }
     /// Sets the observed bit; returns true if it was not set before.
     bool observe(int i) {
@@ -41,29 +88,29 @@ public:
       observed[i >> 6] |= bit;
       return fresh;
     }
+    /// Marks voxel i updated in the current scan; returns false if it already was.
+    bool touch(int i) {
+      const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+      const bool fresh = (touched[i >> 6] & bit) == 0;
+      touched[i >> 6] |= bit;
+      return fresh;
+    }
   };
 
   /// Throws InvalidArgument unless resolution_m is finite and > 0.
   explicit HashedBlockBackend(double resolution_m) : grid_(resolution_m) {}
-  /// Move-only; the moved-from backend is empty.
-  HashedBlockBackend(HashedBlockBackend&& o) noexcept
-      : grid_(o.grid_), cache_(o.cache_), blocks_(std::move(o.blocks_)), observed_(o.observed_), epoch_(o.epoch_) {
-    o.reset_after_move();
-  }
+  /// Move-only; the moved-from backend is empty (and owns no flush folder).
+  HashedBlockBackend(HashedBlockBackend&& o) noexcept { take(o); }
   HashedBlockBackend& operator=(HashedBlockBackend&& o) noexcept {
     if (this != &o) {
-      grid_ = o.grid_;
-      cache_ = o.cache_;
-      blocks_ = std::move(o.blocks_);
-      observed_ = o.observed_;
-      epoch_ = o.epoch_;
-      o.reset_after_move();
+      remove_folder();
+      take(o);
     }
     return *this;
   }
   HashedBlockBackend(const HashedBlockBackend&) = delete;
   HashedBlockBackend& operator=(const HashedBlockBackend&) = delete;
-  ~HashedBlockBackend() = default;
+  ~HashedBlockBackend() { remove_folder(); }
 
   // ---- VoxelBackend members --------------------------------------------------------------------------------------
   [[nodiscard]] double resolution_m() const { return grid_.resolution_m(); }
@@ -71,12 +118,14 @@ public:
 
   [[nodiscard]] State get(const VoxelKey& k) const {
     if (!k.valid()) return State{};
-    const Block* b = find_block(block_id(k));
-    return b ? b->state[local_index(k)] : State{};
+    std::unique_ptr<Block> scratch;
+    const Block* b = find_block(block_id(k), scratch);
+    return b ? b->get(local_index(k)) : State{};
   }
   [[nodiscard]] bool observed(const VoxelKey& k) const {
     if (!k.valid()) return false;
-    const Block* b = find_block(block_id(k));
+    std::unique_ptr<Block> scratch;
+    const Block* b = find_block(block_id(k), scratch);
     return b != nullptr && b->is_observed(local_index(k));
   }
   /// Throws InvalidArgument if k is not valid().
@@ -84,26 +133,32 @@ public:
     detail::require(k.valid(), "HashedBlockBackend::set: key (", k.x, ", ", k.y, ", ", k.z, ") out of range");
     Block& b = block(block_id(k));
     const int i = local_index(k);
-    b.state[i] = s;
+    b.put(i, s);
     note_observed(b, i);
   }
+  /// f(key, state) for every observed voxel; flushed blocks are read from disk (not reloaded).
   template <class F>
   void for_each(F&& f) const {
-    for (const auto& [id, b] : blocks_) {
-      const VoxelKey base = block_origin(id);
-      for (int w = 0; w < kVoxels / 64; ++w) {
-        for (std::uint64_t m = b->observed[w]; m != 0; m &= m - 1) {
-          const int i = w * 64 + std::countr_zero(m);
-          f(VoxelKey{base.x + (i & 7), base.y + ((i >> 3) & 7), base.z + (i >> 6)}, b->state[i]);
-        }
-      }
+    for (const auto& [id, b] : blocks_) for_each_in(id, *b, f);
+    if (flushed_.empty()) return;
+    std::vector<std::uint64_t> ids(flushed_.begin(), flushed_.end());
+    std::sort(ids.begin(), ids.end());
+    Block tmp;
+    for (const std::uint64_t id : ids) {
+      read_block(id, tmp);
+      for_each_in(id, tmp, f);
     }
   }
   [[nodiscard]] std::size_t size() const { return observed_; }
+  /// Bytes held in memory: resident blocks (with their heap side-cars), the hash maps' nodes and buckets, the
+  /// block cache and the set of flushed block ids. Flushed blocks count only as an id.
   [[nodiscard]] std::size_t memory_bytes() const {
-    // blocks + per-entry node of std::unordered_map (key, pointer, next, cached hash) + bucket array
-    constexpr std::size_t node = sizeof(std::uint64_t) + sizeof(void*) * 3;
-    return blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*) + sizeof(*this);  // incl. cache
+    constexpr std::size_t node = sizeof(std::uint64_t) + sizeof(void*) * 3;  // key, value, next, cached hash
+    std::size_t heap = 0;
+    for (const auto& [id, b] : blocks_) heap += b->states.heap_bytes();
+    return blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*) + heap +
+           flushed_.size() * (sizeof(std::uint64_t) + 2 * sizeof(void*)) + flushed_.bucket_count() * sizeof(void*) +
+           sizeof(*this);
   }
   [[nodiscard]] KeyBox observed_key_bounds() const {
     KeyBox box;
@@ -131,45 +186,285 @@ public:
     const VoxelKey b = VoxelKey::unpack(id);
     return {b.x * kEdge, b.y * kEdge, b.z * kEdge};
   }
-  /// The block with id `id`, or nullptr if it was never allocated.
-  [[nodiscard]] const Block* find_block(std::uint64_t id) const {
+  /// The resident block with id `id`, or nullptr if it is not in memory (never allocated, or flushed).
+  [[nodiscard]] const Block* find_resident_block(std::uint64_t id) const {
     const auto it = blocks_.find(id);
     return it == blocks_.end() ? nullptr : it->second.get();
   }
-  [[nodiscard]] Block* find_block(std::uint64_t id) {
+  /// The block with id `id` for reading: the resident block, a flushed block read into `scratch` (valid until
+  /// scratch is reused), or nullptr if it was never allocated. Throws FileError if a flushed block cannot be read.
+  [[nodiscard]] const Block* find_block(std::uint64_t id, std::unique_ptr<Block>& scratch) const {
     const auto it = blocks_.find(id);
-    return it == blocks_.end() ? nullptr : it->second.get();
+    if (it != blocks_.end()) return it->second.get();
+    if (flushed_.empty() || !flushed_.contains(id)) return nullptr;
+    if (!scratch) scratch = std::make_unique<Block>();
+    read_block(id, *scratch);
+    return scratch.get();
   }
-  /// The block with id `id`, allocated (all voxels unknown) if absent. A direct-mapped cache of recently used
-  /// blocks sits in front of the hash map (blocks are never freed, so cached pointers stay valid).
+  /// The block with id `id` for writing, allocated (all voxels unknown) if absent and reloaded if flushed. Its
+  /// touched mask belongs to the current epoch. A direct-mapped cache of recently used blocks sits in front of the
+  /// hash map; it is cleared by next_epoch() and by every flush, so the first access to a block in a scan always
+  /// takes the slow path below. Throws FileError if a flushed block cannot be read back.
   [[nodiscard]] Block& block(std::uint64_t id) {
     CacheEntry& c = cache_[(id * 0x9E3779B97F4A7C15ull) >> (64 - kCacheBits)];
     if (c.id == id) return *c.block;
-    auto& slot = blocks_[id];
-    if (!slot) slot = std::make_unique<Block>();
-    c = {id, slot.get()};
-    return *slot;
+    Block* b = find_or_make(id);
+    if (b->scan != epoch_) {
+      b->scan = epoch_;
+      b->touched.fill(0);
+    }
+    b->last_written = epoch_;
+    c = {id, b};
+    return *b;
   }
   /// Marks voxel i of b observed and keeps the observed count.
   void note_observed(Block& b, int i) { observed_ += b.observe(i) ? 1u : 0u; }
-  [[nodiscard]] std::size_t block_count() const { return blocks_.size(); }
+  /// Blocks allocated so far, resident or flushed.
+  [[nodiscard]] std::size_t block_count() const { return blocks_.size() + flushed_.size(); }
+  /// Blocks in memory.
+  [[nodiscard]] std::size_t resident_block_count() const { return blocks_.size(); }
+  /// Blocks on disk.
+  [[nodiscard]] std::size_t flushed_block_count() const { return flushed_.size(); }
 
-  /// Starts a new update epoch and returns its stamp (1..255). On wrap-around all stamps are cleared first, so a
-  /// stamp equal to the returned value always means "updated in this epoch".
-  [[nodiscard]] std::uint8_t next_epoch() {
-    if (epoch_ == 255) {
-      for (auto& [id, b] : blocks_) b->stamp.fill(0);
-      epoch_ = 0;
-    }
+  /// Starts a new update epoch (one per scan) and returns it; a voxel whose block's touched bit is set was updated
+  /// in this epoch. Epochs are 32-bit and start at 1.
+  [[nodiscard]] std::uint32_t next_epoch() {
+    cache_.fill(CacheEntry{});
     return ++epoch_;
+  }
+  /// Applies the flush policy after a scan (see file comment). Never throws for I/O errors: failures are counted in
+  /// flush_stats() and the blocks stay in memory.
+  void end_scan() {
+    if (!flush_enabled()) return;
+    try {
+      if (setting_.idle_scans > 0) flush_where([&](const Block& b) { return epoch_ - b.last_written >= setting_.idle_scans; });
+      if (setting_.memory_budget_bytes > 0) flush_to_budget(setting_.memory_budget_bytes);
+    } catch (const FileError&) {
+      // already recorded in stats_
+    }
+  }
+
+  // ---- Flushing to disk -------------------------------------------------------------------------------------------
+  /// Sets the automatic flush policy (applied by end_scan()). Throws InvalidArgument if a policy is set without a
+  /// directory.
+  void set_flush_policy(BlockFlushSetting s) {
+    detail::require(!s.directory.empty() || (s.idle_scans == 0 && s.memory_budget_bytes == 0),
+                    "HashedBlockBackend: a flush policy needs a directory");
+    if (!folder_.empty() && s.directory != setting_.directory) {
+      reload_all();
+      remove_folder();
+    }
+    setting_ = std::move(s);
+  }
+  [[nodiscard]] const BlockFlushSetting& flush_policy() const { return setting_; }
+  [[nodiscard]] const BlockFlushStats& flush_stats() const { return stats_; }
+  /// The per-space folder holding flushed blocks (empty before the first flush).
+  [[nodiscard]] const std::filesystem::path& flush_folder() const { return folder_; }
+
+  /// Flushes every resident block not written during the last `idle_scans` epochs (0: every block) to
+  /// flush_policy().directory. Returns the number of blocks written. Throws FileError at the first failed write: that
+  /// block and the ones not yet tried stay in memory (the voxel states are unchanged either way); InvalidArgument if
+  /// no directory is set.
+  std::size_t flush_idle_blocks(std::uint32_t idle_scans) {
+    detail::require(!setting_.directory.empty(), "HashedBlockBackend::flush_idle_blocks: no directory set");
+    return flush_where([&](const Block& b) { return epoch_ - b.last_written >= idle_scans; });
+  }
+  /// Flushes every resident block.
+  std::size_t flush_all() { return flush_idle_blocks(0); }
+  /// Reloads every flushed block into memory. Throws FileError if one cannot be read.
+  void reload_all() {
+    std::vector<std::uint64_t> ids(flushed_.begin(), flushed_.end());
+    for (const std::uint64_t id : ids) (void)find_or_make(id);
   }
 
 private:
-  void reset_after_move() {
+  static constexpr std::uint32_t kMagic = 0x4253424Eu;  // "NBSB"
+  static constexpr std::uint32_t kVersion = 1;
+
+  template <class F>
+  static void for_each_in(std::uint64_t id, const Block& b, F& f) {
+    const VoxelKey base = block_origin(id);
+    for (int w = 0; w < kVoxels / 64; ++w) {
+      for (std::uint64_t m = b.observed[w]; m != 0; m &= m - 1) {
+        const int i = w * 64 + std::countr_zero(m);
+        f(VoxelKey{base.x + (i & 7), base.y + ((i >> 3) & 7), base.z + (i >> 6)}, b.get(i));
+      }
+    }
+  }
+
+  [[nodiscard]] bool flush_enabled() const {
+    return !setting_.directory.empty() && (setting_.idle_scans > 0 || setting_.memory_budget_bytes > 0);
+  }
+
+  Block* find_or_make(std::uint64_t id) {
+    auto it = blocks_.find(id);
+    if (it != blocks_.end()) return it->second.get();
+    auto b = std::make_unique<Block>();
+    const bool flushed = !flushed_.empty() && flushed_.contains(id);
+    if (flushed) read_block(id, *b);  // may throw: nothing changed yet
+    Block* raw = b.get();
+    blocks_.emplace(id, std::move(b));
+    if (flushed) {
+      flushed_.erase(id);
+      std::error_code ec;
+      std::filesystem::remove(block_path(id), ec);  // a stale file is harmless: it is overwritten by the next flush
+      ++stats_.blocks_reloaded;
+    }
+    return raw;
+  }
+
+  // Flushes the resident blocks with pred(block), in (last_written, id) order; see flush_idle_blocks.
+  template <class Pred>
+  std::size_t flush_where(Pred&& pred) {
+    std::vector<std::pair<std::uint32_t, std::uint64_t>> order;
+    for (const auto& [id, b] : blocks_)
+      if (pred(*b)) order.push_back({b->last_written, id});
+    std::sort(order.begin(), order.end());
+    return flush_ids(order, [](std::size_t) { return true; });
+  }
+  void flush_to_budget(std::size_t budget) {
+    std::size_t bytes = memory_bytes();
+    if (bytes <= budget) return;
+    std::vector<std::pair<std::uint32_t, std::uint64_t>> order;
+    for (const auto& [id, b] : blocks_) order.push_back({b->last_written, id});
+    std::sort(order.begin(), order.end());
+    (void)flush_ids(order, [&](std::size_t freed) {
+      if (bytes <= budget) return false;
+      bytes -= std::min(bytes, freed);
+      return true;
+    });
+  }
+  // Writes the blocks in `order` while more(bytes freed by the previous block) holds.
+  template <class More>
+  std::size_t flush_ids(const std::vector<std::pair<std::uint32_t, std::uint64_t>>& order, More&& more) {
+    std::size_t n = 0, freed = 0;
     cache_.fill(CacheEntry{});
-    blocks_.clear();
-    observed_ = 0;
-    epoch_ = 0;
+    for (const auto& [last, id] : order) {
+      if (!more(freed)) break;
+      const auto it = blocks_.find(id);
+      write_block(id, *it->second);  // throws FileError: this block stays resident
+      freed = sizeof(Block) + it->second->states.heap_bytes();
+      blocks_.erase(it);
+      flushed_.insert(id);
+      ++stats_.blocks_written;
+      ++n;
+    }
+    return n;
+  }
+
+  [[nodiscard]] std::filesystem::path block_path(std::uint64_t id) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "%016llx.blk", static_cast<unsigned long long>(id));
+    return folder_ / name;
+  }
+
+  // Creates the per-space folder on first use.
+  void ensure_folder() {
+    if (!folder_.empty()) return;
+    static std::atomic<std::uint64_t> counter{0};
+    std::error_code ec;
+    std::filesystem::create_directories(setting_.directory, ec);
+    const auto seed = static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
+    for (int attempt = 0; attempt < 64; ++attempt) {
+      const std::filesystem::path p =
+          setting_.directory / ("nbs-blocks-" + std::to_string((seed + counter.fetch_add(1)) % 1000000007ull));
+      ec.clear();
+      if (std::filesystem::create_directory(p, ec)) {
+        folder_ = p;
+        return;
+      }
+      if (ec) break;
+    }
+    throw FileError(detail::concat("HashedBlockBackend: cannot create a block folder in '",
+                                   setting_.directory.string(), "'", ec ? ": " + ec.message() : std::string()));
+  }
+
+  void fail(const std::string& message) {
+    ++stats_.failed_writes;
+    stats_.last_error = message;
+    throw FileError(message);
+  }
+
+  void write_block(std::uint64_t id, const Block& b) {
+    try {
+      ensure_folder();
+    } catch (const FileError& e) {
+      fail(e.what());
+    }
+    const std::filesystem::path path = block_path(id);
+    std::filesystem::path tmp = path;
+    tmp += ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out) fail(detail::concat("HashedBlockBackend: cannot open '", tmp.string(), "' for writing"));
+      const auto write = [&out](const void* p, std::size_t n) {
+        out.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
+      };
+      const std::uint32_t header[2] = {kMagic, kVersion};
+      write(header, sizeof header);
+      write(&id, sizeof id);
+      write(b.observed.data(), sizeof(b.observed));
+      b.states.save(write);
+      out.close();
+      if (!out) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        fail(detail::concat("HashedBlockBackend: writing '", tmp.string(), "' failed"));
+      }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      fail(detail::concat("HashedBlockBackend: cannot rename '", tmp.string(), "' to '", path.string(),
+                          "': ", ec.message()));
+    }
+  }
+
+  void read_block(std::uint64_t id, Block& b) const {
+    const std::filesystem::path path = block_path(id);
+    std::ifstream in(path, std::ios::binary);
+    const auto read = [&in](void* p, std::size_t n) {
+      in.read(static_cast<char*>(p), static_cast<std::streamsize>(n));
+      return static_cast<bool>(in);
+    };
+    std::uint32_t header[2] = {0, 0};
+    std::uint64_t file_id = 0;
+    const bool ok = in && read(header, sizeof header) && header[0] == kMagic && header[1] == kVersion &&
+                    read(&file_id, sizeof file_id) && file_id == id && read(b.observed.data(), sizeof(b.observed)) &&
+                    b.states.restore(read);
+    if (!ok) throw FileError(detail::concat("HashedBlockBackend: cannot read flushed block '", path.string(), "'"));
+    b.touched.fill(0);
+    b.scan = 0;
+    b.last_written = epoch_;
+  }
+
+  void remove_folder() {
+    if (folder_.empty()) return;
+    std::error_code ec;
+    std::filesystem::remove_all(folder_, ec);
+    folder_.clear();
+  }
+
+  void take(HashedBlockBackend& o) {
+    grid_ = o.grid_;
+    cache_ = o.cache_;
+    blocks_ = std::move(o.blocks_);
+    flushed_ = std::move(o.flushed_);
+    observed_ = o.observed_;
+    epoch_ = o.epoch_;
+    setting_ = std::move(o.setting_);
+    stats_ = std::move(o.stats_);
+    folder_ = std::move(o.folder_);
+    o.cache_.fill(CacheEntry{});
+    o.blocks_.clear();
+    o.flushed_.clear();
+    o.observed_ = 0;
+    o.epoch_ = 0;
+    o.setting_ = {};
+    o.stats_ = {};
+    o.folder_.clear();
   }
 
   static constexpr int kCacheBits = 10;
@@ -178,11 +473,15 @@ private:
     Block* block = nullptr;
   };
 
-  VoxelGrid grid_;
+  VoxelGrid grid_{1.0};
   std::array<CacheEntry, std::size_t{1} << kCacheBits> cache_{};
   std::unordered_map<std::uint64_t, std::unique_ptr<Block>> blocks_;
+  std::unordered_set<std::uint64_t> flushed_;  ///< ids of blocks on disk (never also in blocks_)
   std::size_t observed_ = 0;
-  std::uint8_t epoch_ = 0;
+  std::uint32_t epoch_ = 0;
+  BlockFlushSetting setting_;
+  BlockFlushStats stats_;
+  std::filesystem::path folder_;
 };
 
 }  // namespace nbs

@@ -136,6 +136,7 @@ public:
     begin_scan();
     for (const BeamRecord& b : beams_) band_pass(b, st);
     for (const BeamRecord& b : beams_) free_pass(b, st);
+    if constexpr (kNative) backend_.end_scan();  // flush policy (off by default)
     totals_ += st;
     return st;
   }
@@ -152,6 +153,9 @@ public:
   /// Keys of the voxels overlapping bounds().
   [[nodiscard]] KeyBox bounds_keys() const { return grid_.key_box(bounds_); }
   [[nodiscard]] const Backend& backend() const { return backend_; }
+  /// Mutable access to the backend, e.g. to set HashedBlockBackend's flush policy. Writing voxel states through it
+  /// bypasses the update model.
+  [[nodiscard]] Backend& mutable_backend() { return backend_; }
   [[nodiscard]] const Model& model() const { return model_; }
   /// Sum of the statistics of every integrated scan.
   [[nodiscard]] const IntegrationStats& totals() const { return totals_; }
@@ -237,7 +241,7 @@ private:
 
   void begin_scan() {
     if constexpr (kNative) {
-      epoch_ = backend_.next_epoch();
+      (void)backend_.next_epoch();
     } else {
       touched_.clear();
     }
@@ -252,6 +256,19 @@ private:
     }
     State s = voxel_state(backend_, k);
     count(apply(s), st, [&] { set_voxel_state(backend_, k, s); });
+  }
+  // Native path: apply(State&) to voxel i of blk unless it was already touched in this scan; writes back if updated.
+  template <class Block, class Apply>
+  void update_native(Block& blk, int i, IntegrationStats& st, Apply&& apply) {
+    if (!blk.touch(i)) {
+      ++st.voxels_same_scan;
+      return;
+    }
+    State s = blk.get(i);
+    count(apply(s), st, [&] {
+      blk.put(i, s);
+      backend_.note_observed(blk, i);
+    });
   }
   template <class OnUpdate>
   static void count(VoxelUpdate u, IntegrationStats& st, OnUpdate&& on_update) {
@@ -270,12 +287,7 @@ private:
     if constexpr (kNative) {
       detail::walk_blocks(backend_, a * inv, b * inv, include_end,
                           [&](typename Backend::Block& blk, int i, const VoxelKey& k, bool is_end) {
-                            if (blk.stamp[i] == epoch_) {
-                              ++st.voxels_same_scan;
-                              return;
-                            }
-                            blk.stamp[i] = epoch_;
-                            count(apply(blk.state[i], k, is_end), st, [&] { backend_.note_observed(blk, i); });
+                            update_native(blk, i, st, [&](State& s) { return apply(s, k, is_end); });
                           });
     } else {
       detail::SegmentWalker w(a * inv, b * inv);
@@ -304,14 +316,8 @@ private:
     };
     if constexpr (kNative) {
       if (grid_.key_of(from) == grid_.key_of(to)) {  // the band lies inside the end voxel: no walk needed
-        auto& blk = backend_.block(Backend::block_id(end_key));
-        const int i = Backend::local_index(end_key);
-        if (blk.stamp[i] == epoch_) {
-          ++st.voxels_same_scan;
-          return;
-        }
-        blk.stamp[i] = epoch_;
-        count(update(blk.state[i], end_key, true), st, [&] { backend_.note_observed(blk, i); });
+        update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
+                      [&](State& s) { return update(s, end_key, true); });
         return;
       }
     }
@@ -353,9 +359,8 @@ private:
       return true;
     };
     if constexpr (kNative) {
-      static const State unknown{};
       detail::walk_blocks_const(backend_, a, b, [&](const typename Backend::Block* blk, int i, const VoxelKey& k) {
-        return on_voxel(k, blk ? blk->state[i] : unknown);
+        return on_voxel(k, blk ? blk->get(i) : State{});
       });
     } else {
       detail::SegmentWalker w(a, b);
@@ -376,7 +381,6 @@ private:
   SurfaceFeatureMap features_;
   IntegrationStats totals_;
   std::vector<BeamRecord> beams_;
-  std::uint8_t epoch_ = 0;
   std::unordered_set<std::uint64_t> touched_;
 };
 

@@ -16,7 +16,9 @@
 /// - Eq. 3.8: l = log L_surf + log(L_free·(1 − P(spec)) + P(spec)); p = 1 − 1/(1 + exp(l)). Unknown: p = 0.5.
 ///   A voxel with strong surface evidence (P(spec) → 1) is therefore not erased by later free measurements,
 ///   the behaviour the thesis wants for beams deflected by specular surfaces.
-/// States are fixed point (1/1024 nat, saturating int16), so a voxel needs 8 bytes.
+/// States are fixed point (1/1024 nat, saturating int16): 8 bytes as a value (7 used). Inside a HashedBlockBackend
+/// block a voxel takes 4 bytes (free, direction) plus 3 bytes (surf, spec) only in blocks with surface evidence,
+/// see BlockStates<ThesisState> below.
 
 #include <algorithm>
 #include <array>
@@ -24,23 +26,82 @@
 #include <cstdint>
 #include <cstdlib>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <utility>
 
 #include "nbs/core/error.hpp"
+#include "nbs/space/block_states.hpp"
 #include "nbs/space/update_model.hpp"
 
 namespace nbs {
 
-/// Per-voxel state of the thesis model (8 bytes).
+/// Per-voxel state of the thesis model (8 bytes as a value, one byte of padding).
 struct ThesisState {
   static constexpr std::uint16_t kNoDirection = 0xFFFF;
   std::int16_t free = 0;                      ///< log L_free in 1/1024 nat (≤ 0), Eq. 3.7
   std::int16_t surf = 0;                      ///< log L_surf in 1/1024 nat (≥ 0), Eq. 3.7
   std::uint8_t spec = 0;                      ///< P(spec)·255, Eq. 3.6
-  std::uint8_t reserved = 0;
   std::uint16_t direction = kNoDirection;     ///< octahedral code of the last integrated beam (beam independence)
   [[nodiscard]] friend bool operator==(const ThesisState&, const ThesisState&) = default;
+};
+
+/// Block layout of ThesisState in HashedBlockBackend: `free` and `direction` (stored XOR kNoDirection, so a zeroed
+/// block reads as unknown) for every voxel, 4 bytes each; `surf` and `spec` in a side-car of 3 bytes per voxel that
+/// is allocated the first time a voxel of the block gets surface evidence (most observed blocks are free space).
+template <>
+struct BlockStates<ThesisState> {
+  struct Surface {
+    std::array<std::int16_t, kBlockVoxels> surf{};
+    std::array<std::uint8_t, kBlockVoxels> spec{};
+  };
+  std::array<std::int16_t, kBlockVoxels> free{};
+  std::array<std::uint16_t, kBlockVoxels> direction_x{};  ///< direction XOR kNoDirection
+  std::unique_ptr<Surface> surface;                        ///< null: surf = spec = 0 for every voxel
+
+  [[nodiscard]] ThesisState load(int i) const {
+    ThesisState s;
+    s.free = free[i];
+    s.direction = static_cast<std::uint16_t>(direction_x[i] ^ ThesisState::kNoDirection);
+    if (surface) {
+      s.surf = surface->surf[i];
+      s.spec = surface->spec[i];
+    }
+    return s;
+  }
+  void store(int i, const ThesisState& s) {
+    free[i] = s.free;
+    direction_x[i] = static_cast<std::uint16_t>(s.direction ^ ThesisState::kNoDirection);
+    if (!surface) {
+      if (s.surf == 0 && s.spec == 0) return;
+      surface = std::make_unique<Surface>();
+    }
+    surface->surf[i] = s.surf;
+    surface->spec[i] = s.spec;
+  }
+  [[nodiscard]] std::size_t heap_bytes() const { return surface ? sizeof(Surface) : 0; }
+  template <class Write>
+  void save(Write&& write) const {
+    write(free.data(), sizeof(free));
+    write(direction_x.data(), sizeof(direction_x));
+    const std::uint8_t has_surface = surface ? 1 : 0;
+    write(&has_surface, 1);
+    if (surface) {
+      write(surface->surf.data(), sizeof(surface->surf));
+      write(surface->spec.data(), sizeof(surface->spec));
+    }
+  }
+  template <class Read>
+  [[nodiscard]] bool restore(Read&& read) {
+    std::uint8_t has_surface = 0;
+    if (!read(free.data(), sizeof(free)) || !read(direction_x.data(), sizeof(direction_x)) || !read(&has_surface, 1))
+      return false;
+    if (has_surface > 1) return false;
+    surface.reset();
+    if (has_surface == 0) return true;
+    surface = std::make_unique<Surface>();
+    return read(surface->surf.data(), sizeof(surface->surf)) && read(surface->spec.data(), sizeof(surface->spec));
+  }
 };
 
 /// Thesis update model. Thread-safety: const members are safe to call concurrently if `sigma_m` is.

@@ -2,6 +2,7 @@
 /// \file
 /// Segment walks over a HashedBlockBackend that look a block up only when the walk enters a new block.
 
+#include <memory>
 #include <type_traits>
 
 #include "nbs/core/types.hpp"
@@ -35,13 +36,15 @@ void walk_blocks(HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, bool i
 }
 
 /// Read-only walk from a to b (voxel units, valid keys): visit(const Block* or nullptr, index, key) for each
-/// voxel, end voxel included; stops early when visit returns false. Returns the number of voxels visited.
+/// voxel, end voxel included; stops early when visit returns false. Flushed blocks are read into a scratch block
+/// owned by the walk. Returns the number of voxels visited.
 template <class S, class Visit>
 std::uint32_t walk_blocks_const(const HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, Visit&& visit) {
   using BE = HashedBlockBackend<S>;
   SegmentWalker w(a, b);
   VoxelKey k = w.key();
-  const typename BE::Block* blk = be.find_block(BE::block_id(k));
+  std::unique_ptr<typename BE::Block> scratch;
+  const typename BE::Block* blk = be.find_block(BE::block_id(k), scratch);
   std::uint32_t n = 0;
   for (;;) {
     ++n;
@@ -49,7 +52,8 @@ std::uint32_t walk_blocks_const(const HashedBlockBackend<S>& be, const Vec3& a, 
     if (w.remaining() == 0) return n;
     const int axis = w.step();
     k = w.key();
-    if ((k[axis] & (BE::kEdge - 1)) == (w.sign(axis) > 0 ? 0 : BE::kEdge - 1)) blk = be.find_block(BE::block_id(k));
+    if ((k[axis] & (BE::kEdge - 1)) == (w.sign(axis) > 0 ? 0 : BE::kEdge - 1))
+      blk = be.find_block(BE::block_id(k), scratch);
   }
 }
 
