@@ -1,44 +1,72 @@
-// nbs_model — the main job. Until the NBS planner exists it scans the ground-truth object from the 13 initial scan
-// paths of Sec. 4.7.2 with the simulated DLR laser stripe profiler and reports the ground-truth metrics of the
-// merged point cloud (c_a, c_b, c_obs, ē, l_s; Sec. 4.7.2, Tab. 5.2). Run `nbs_model --help`.
+// nbs_model — the main job: simulated autonomous modeling of the bundled Stanford bunny (or --mesh) with the
+// Next-Best-Scan planner (default IG+Quality with Boundary Search + Hole Rescan, method C_H, Sec. 4.7). A first
+// scan along one of the 13 initial paths (Sec. 4.7.2, chosen by --seed), then plan → scan (Embree simulated DLR
+// laser stripe profiler) → integrate until the planner is done or n_abort scans were taken. Prints one line per
+// scan with the planner's estimates and the true c_a; writes mesh, voxel space, candidates (per iteration, PLY line
+// segments coloured red → green by utility, Fig. 4.16), PNG pictures and report.json. Run `nbs_model --help`.
+
+// Planner headers first (see nbs/planner/detail/components.hpp).
+#include "nbs/planner/runtime_planner.hpp"
+#include "nbs/planner/simulation_loop.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "nbs/core/parameters.hpp"
+#include "nbs/embree/png.hpp"
+#include "nbs/embree/render.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/write_ply.hpp"
+#include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/normalize.hpp"
+#include "nbs/mesh/ply.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/metrics.hpp"
+#include "nbs/space/export_ply.hpp"
+#include "nbs/embree/report_json.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
-    "usage: nbs_model [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--out DIR]\n"
-    "  --mesh PATH  ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)\n"
-    "  --up AXIS    axis of the mesh file that points up (default y, as in the bunny OBJ)\n"
-    "  --size M     largest extent of the object after normalisation, metres, > 0 (default 0.16)\n"
-    "  --seed N     seed of sensor noise and ground-truth samples, unsigned integer (default 1)\n"
-    "  --out DIR    output directory, created if missing (default out)\n"
-    "Scans the object, standing on a pedestal at z = 0, along the 13 initial scan paths of Sec. 4.7.2 with the\n"
-    "simulated DLR laser stripe profiler; writes DIR/points.ply and prints one line per scan and the metrics.\n";
+    "usage: nbs_model [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--method CODE] [--scans N] [--threads N]\n"
+    "                 [--out DIR] [--no-images] [--initial-only]\n"
+    "  --mesh PATH     ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)\n"
+    "  --up AXIS       axis of the mesh file that points up (default y, as in the bunny OBJ)\n"
+    "  --size M        largest extent of the object after normalisation, metres, > 0 (default 0.16)\n"
+    "  --seed N        seed of the first scan path, sensor noise and ground-truth samples (default 1)\n"
+    "  --method CODE   planning method (default C_H = IG+Quality, Boundary Search + Hole Rescan); codes:\n"
+    "                  R|I|Q|C _ S|B|H (Fig. 4.19) and OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H\n"
+    "  --scans N       n_abort, hard limit on the number of scans, >= 1 (default 30, Tab. 4.3)\n"
+    "  --threads N     candidate evaluation threads, >= 1 (default: hardware threads); results do not depend on it\n"
+    "  --out DIR       output directory, created if missing (default out)\n"
+    "  --no-images     do not write the PNG pictures\n"
+    "  --initial-only  no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply\n"
+    "The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
+    "DIR/view_NN.png, DIR/final.png and DIR/report.json.\n";
 
 struct Options {
   std::string mesh = std::string(NBS_DATA_DIR) + "/meshes/stanford-bunny.obj";
   nbs::UpAxis up = nbs::UpAxis::y;
   double size_m = nbs::Parameters{}.object_size_m;
   std::uint64_t seed = 1;
+  nbs::Method method{};
+  int scans = nbs::Parameters{}.max_scans;
+  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   std::string out = "out";
+  bool images = true;
+  bool initial_only = false;
 };
 
 struct UsageError {
@@ -58,7 +86,7 @@ double parse_double(std::string_view name, const std::string& s) {
   return v;
 }
 
-std::uint64_t parse_seed(const std::string& s) {
+std::uint64_t parse_unsigned(std::string_view name, const std::string& s, std::uint64_t min, std::uint64_t max) {
   std::size_t used = 0;
   unsigned long long v = 0;
   try {
@@ -66,7 +94,9 @@ std::uint64_t parse_seed(const std::string& s) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (s.empty() || used != s.size()) throw UsageError{"--seed expects an unsigned integer, got '" + s + "'"};
+  if (s.empty() || used != s.size() || v < min || v > max)
+    throw UsageError{std::string(name) + " expects an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
+                     "], got '" + s + "'"};
   return v;
 }
 
@@ -76,6 +106,14 @@ std::optional<Options> parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") return std::nullopt;
+    if (arg == "--no-images") {
+      o.images = false;
+      continue;
+    }
+    if (arg == "--initial-only") {
+      o.initial_only = true;
+      continue;
+    }
     if (arg.rfind("--", 0) != 0) throw UsageError{"unexpected argument '" + arg + "'"};
     if (i + 1 >= argc || std::string_view(argv[i + 1]).rfind("--", 0) == 0)
       throw UsageError{"option '" + arg + "' expects a value"};
@@ -90,7 +128,17 @@ std::optional<Options> parse(int argc, char** argv) {
     } else if (arg == "--size") {
       o.size_m = parse_double("--size", value);
     } else if (arg == "--seed") {
-      o.seed = parse_seed(value);
+      o.seed = parse_unsigned("--seed", value, 0, ~0ULL);
+    } else if (arg == "--method") {
+      try {
+        o.method = nbs::parse_method(value);
+      } catch (const nbs::InvalidArgument& e) {
+        throw UsageError{std::string("--method: ") + e.what()};
+      }
+    } else if (arg == "--scans") {
+      o.scans = static_cast<int>(parse_unsigned("--scans", value, 1, 1000));
+    } else if (arg == "--threads") {
+      o.threads = static_cast<unsigned>(parse_unsigned("--threads", value, 1, 1024));
     } else if (arg == "--out") {
       if (value.empty()) throw UsageError{"--out expects a directory"};
       o.out = value;
@@ -105,6 +153,142 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+std::string file(const Options& o, const std::string& name) { return (std::filesystem::path(o.out) / name).string(); }
+
+std::string numbered(const char* stem, int n, const char* ext) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s_%02d.%s", stem, n, ext);
+  return buf;
+}
+
+/// Candidate paths of one planning step as PLY line segments (Fig. 4.16): a vertex at each path end, one `edge`
+/// per path with its colour (red = lowest utility of the step, green = highest) and utility.
+void write_candidates_ply(const std::string& path, const std::vector<nbs::LinearScanPath>& paths,
+                          const std::vector<double>& utility) {
+  const std::vector<double> u01 = nbs::embree::normalize_utilities(utility);
+  std::ofstream out(path);
+  if (!out) throw nbs::FileError(path + ": cannot open file for writing");
+  out.precision(9);
+  out << "ply\nformat ascii 1.0\ncomment nbs scan candidates of one planning step, coloured by utility (red low, "
+         "green high)\nelement vertex "
+      << 2 * paths.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
+         "property uchar blue\nelement edge "
+      << paths.size()
+      << "\nproperty int vertex1\nproperty int vertex2\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+         "property double utility\nend_header\n";
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const nbs::embree::Rgb8 c = nbs::embree::utility_color(u01[i]);
+    for (const nbs::Vec3& p : {paths[i].start().position(), paths[i].end_position()})
+      out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]) << '\n';
+  }
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const nbs::embree::Rgb8 c = nbs::embree::utility_color(u01[i]);
+    out << 2 * i << ' ' << 2 * i + 1 << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]) << ' '
+        << nbs::embree::json_number(utility[i]) << '\n';
+  }
+  out.close();
+  if (!out) throw nbs::FileError(path + ": write failed");
+}
+
+/// Picture of `mesh` (may be empty) with candidate segments; the chosen one (index `chosen`, if any) drawn wider.
+void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const nbs::embree::Camera& cam,
+                   const std::vector<nbs::LinearScanPath>& paths, const std::vector<double>& utility,
+                   std::optional<std::size_t> chosen, unsigned threads) {
+  std::optional<nbs::embree::Scene> scene;
+  if (!mesh.triangles.empty()) scene.emplace(mesh);
+  const std::vector<double> u01 = nbs::embree::normalize_utilities(utility);
+  std::vector<nbs::embree::Segment> segs;
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    if (i != chosen) segs.push_back({paths[i].start().position(), paths[i].end_position(), nbs::embree::utility_color(u01[i]), 1});
+  if (chosen) segs.push_back({paths[*chosen].start().position(), paths[*chosen].end_position(), {0, 90, 255}, 3});
+  nbs::embree::RenderSetting rs;
+  rs.threads = threads;
+  nbs::embree::render(scene ? &*scene : nullptr, cam, segs, rs).write_png(path);
+}
+
+/// Ground truth of the model as it grows: c_a / c_b over the mesh vertices (points with a robust normal) and ē
+/// accumulated over the same vertices (they never move).
+struct TruthTracker {
+  const nbs::GroundTruth& truth;
+  nbs::CoverageTracker coverage;
+  std::vector<bool> added;
+  std::size_t vertices = 0;
+  double sum_sq_m2 = 0.0;
+
+  explicit TruthTracker(const nbs::GroundTruth& t) : truth(t), coverage(t.tracker()) {}
+  void update(const nbs::StreamingMesh& mesh) {
+    added.resize(mesh.vertex_count(), false);
+    std::vector<nbs::Vec3> fresh;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const auto id = static_cast<nbs::VertexId>(v);
+      if (added[v] || !mesh.has_normal(id)) continue;
+      added[v] = true;
+      fresh.push_back(mesh.position(id));
+    }
+    if (fresh.empty()) return;
+    coverage.add(fresh);
+    const double rms = truth.rms_error(fresh);
+    sum_sq_m2 += rms * rms * double(fresh.size());
+    vertices += fresh.size();
+  }
+  [[nodiscard]] double rms_m() const { return vertices ? std::sqrt(sum_sq_m2 / double(vertices)) : 0.0; }
+};
+
+/// One row of the per-scan series of report.json.
+struct Row {
+  int scan = 0;
+  std::string mode;
+  double c_m = 0, d_m = 0, c_a = 0, c_b = 0, e_m = 0, l_s = 0, t_nbs = 0;
+  std::size_t candidates = 0, points = 0, vertices = 0;
+  double utility = 0.0;
+};
+
+nbs::ObservabilitySettings observability_settings(const nbs::LaserStripeProfiler& lsp, const nbs::Parameters& p) {
+  nbs::ObservabilitySettings os;
+  os.min_range_m = lsp.range.min_m;
+  os.max_range_m = lsp.range.max_m;
+  os.incidence_cutoff_rad = p.incidence_cutoff_rad;
+  return os;
+}
+
+/// --initial-only: the 13 initial scan paths of Sec. 4.7.2, no planning; metrics of the merged point cloud.
+int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs::GroundTruth& truth,
+                     const nbs::embree::SimulatedScanner& scanner) {
+  using namespace nbs;
+  const auto t0 = std::chrono::steady_clock::now();
+  const Parameters params;
+  const LaserStripeProfiler lsp = presets::dlr_lsp();
+  const double standoff_m = 0.5 * (lsp.range.min_m + lsp.range.max_m);
+  const std::vector<LinearScanPath> paths = initial_scan_paths(mesh.bounds(), standoff_m);
+  CoverageTracker coverage = truth.tracker();
+  std::vector<Vec3> cloud;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const Scan scan = scanner.scan(paths[i], lsp, nbs::detail::splitmix64(opt.seed ^ (0x5CA9ULL + i)));
+    coverage.add(scan.points);
+    cloud.insert(cloud.end(), scan.points.begin(), scan.points.end());
+    std::printf("scan %2zu  path %2zu  length %.3f m  points %7zu  c_a %6.2f %%\n", i + 1, i, paths[i].length(),
+                scan.size(), 100.0 * coverage.completeness().c_a());
+  }
+  write_ply_points(file(opt, "points.ply"), cloud);
+  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp, params));
+  const Completeness c = coverage.completeness();
+  std::printf("points  %zu written to %s\nc_a %6.2f %%  c_b %6.2f %%  c_obs %6.2f %%  e_rms %.3f mm  l_s %.3f m  "
+              "time %.1f s\n",
+              cloud.size(), file(opt, "points.ply").c_str(), 100.0 * c.c_a(), 100.0 * c.c_b(), 100.0 * obs.c_obs(),
+              1e3 * (cloud.empty() ? 0.0 : truth.rms_error(cloud)), scan_path_length(paths), seconds_since(t0));
+  return 0;
+}
+
+std::string_view stop_name(nbs::LoopStop s) {
+  switch (s) {
+    case nbs::LoopStop::done: return "done (termination criterion holds: target coverage and density reached)";
+    case nbs::LoopStop::max_scans: return "n_abort scans reached";
+    case nbs::LoopStop::no_candidates: return "no candidate left";
+  }
+  return "?";
+}
+
 int run(const Options& opt) {
   using namespace nbs;
   const auto t_start = std::chrono::steady_clock::now();
@@ -113,12 +297,13 @@ int run(const Options& opt) {
     mesh = load_mesh(opt.mesh);
     normalize_on_pedestal(mesh, opt.size_m, opt.up);
   } catch (const Error& e) {  // a bad --mesh is a usage error
-    std::cerr << "nbs_model: " << e.what() << "\n";
+    std::cerr << "nbs_model: " << e.what() << "\n" << kUsage;
     return 2;
   }
-  const Parameters params;
+  std::filesystem::create_directories(opt.out);
+  Parameters params;
+  params.max_scans = opt.scans;
   const LaserStripeProfiler lsp = presets::dlr_lsp();
-  const double standoff_m = 0.5 * (lsp.range.min_m + lsp.range.max_m);
   GroundTruth::Setting gts;
   gts.seed = opt.seed;
   gts.completeness_radius_m = params.completeness_radius_m;
@@ -128,52 +313,168 @@ int run(const Options& opt) {
   std::printf("object  %s: %zu vertices, %zu triangles, box %.3f x %.3f x %.3f m on the pedestal z = 0\n",
               opt.mesh.c_str(), mesh.vertices.size(), mesh.triangles.size(), box.extent().x(), box.extent().y(),
               box.extent().z());
-  std::printf("truth   %zu surface samples (%zu not bottom), r = %.1f mm; sensor DLR LSP %d pts/profile, "
-              "%.0f-%.0f mm, standoff %.0f mm\n",
-              truth.samples().size(), truth.samples().non_bottom_count(), 1e3 * gts.completeness_radius_m,
-              lsp.points_per_profile, 1e3 * lsp.range.min_m, 1e3 * lsp.range.max_m, 1e3 * standoff_m);
+  if (opt.initial_only) return run_initial_only(opt, mesh, truth, scanner);
 
-  const std::vector<LinearScanPath> paths = initial_scan_paths(box, standoff_m);
-  CoverageTracker coverage = truth.tracker();
-  std::vector<Vec3> cloud;
-  const auto t_scan = std::chrono::steady_clock::now();
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const Scan scan = scanner.scan(paths[i], lsp, detail::splitmix64(opt.seed ^ (0x5CA9ULL + i)));
-    coverage.add(scan.points);
-    cloud.insert(cloud.end(), scan.points.begin(), scan.points.end());
-    std::printf("scan %2zu  path %2zu  length %.3f m  points %7zu  c_a %6.2f %%\n", i + 1, i, paths[i].length(),
-                scan.size(), 100.0 * coverage.completeness().c_a());
+  // Bounding box of the unknown area (Sec. 4.1): the object's box + 1 cm sideways and on top, bottom on z = 0.
+  Aabb unknown = box;
+  unknown.min -= Vec3(0.01, 0.01, 0.0);
+  unknown.max += Vec3(0.01, 0.01, 0.01);
+  PlannerSetting ps;
+  ps.threads = opt.threads;
+  ps.seed = opt.seed;
+  RuntimePlanner planner(opt.method, params, lsp, unknown, ps);
+  const std::string code = planner.code();
+  std::printf("planner %s, n_abort %d, unknown area %.3f x %.3f x %.3f m, voxel %.1f mm, seed %llu, %u threads\n",
+              code.c_str(), params.max_scans, unknown.extent().x(), unknown.extent().y(), unknown.extent().z(),
+              1e3 * planner.space().resolution_m(), static_cast<unsigned long long>(opt.seed), opt.threads);
+  std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m\n");
+
+  // Fixed camera framing the object and the candidate paths (≈ d_s = 0.3 m from the surface).
+  Aabb view = unknown;
+  const double reach = 0.5 * (lsp.range.min_m + lsp.range.max_m);
+  view.min -= Vec3(reach, reach, 0.0);
+  view.max += Vec3(reach, reach, reach);
+  const embree::Camera cam = embree::Camera::around(view, -1.0, 0.5, 0.5, 1.15);
+  double t_render = 0.0;
+
+  TruthTracker gt(truth);
+  std::vector<Row> rows;
+  double l_s = 0.0;
+  const auto execute = [&](const LinearScanPath& path, const IterationStats& plan, std::size_t candidates,
+                           double utility) {
+    const std::size_t i = rows.size();
+    const Scan scan = scanner.scan(path, planner.sensor(), nbs::detail::splitmix64(opt.seed ^ (0x5CA9ULL + i)));
+    const IntegrationReport rep = planner.integrate(scan);
+    l_s += path.length();
+    gt.update(planner.mesh());
+    const Completeness c = gt.coverage.completeness();
+    Row r{static_cast<int>(i) + 1, std::string(to_string(plan.mode)), rep.estimated_coverage, rep.mean_density,
+          c.c_a(), c.c_b(), gt.rms_m(), l_s, plan.t_nbs_s, candidates, scan.size(), gt.vertices, utility};
+    if (i == 0) r.mode = "init";
+    rows.push_back(r);
+    std::printf("%4d %-4s %6.3f  %6.3f  %6zu  %6.3f  %7zu  %6.2f  %6.2f  %5.3f  %6.3f\n", r.scan, r.mode.c_str(), r.c_m,
+                r.d_m, r.candidates, r.t_nbs, r.points, 100.0 * r.c_a, 100.0 * r.c_b, 1e3 * r.e_m, r.l_s);
+    std::fflush(stdout);
+  };
+
+  // First scan: one of the 13 initial paths, chosen by the seed (Sec. 4.7.2).
+  const int first = random_initial_scan_index(opt.seed);
+  {
+    const LinearScanPath p0 = planner.initial_scan(first);
+    if (opt.images) {
+      const auto t = std::chrono::steady_clock::now();
+      write_picture(file(opt, numbered("view", 1, "png")), IndexedMesh{}, cam, {p0}, {1.0}, std::size_t{0}, opt.threads);
+      t_render += seconds_since(t);
+    }
+    execute(p0, IterationStats{}, 1, 0.0);
   }
-  const double scan_s = seconds_since(t_scan);
+  LoopStop stop = LoopStop::max_scans;
+  PlanStatus last = PlanStatus::ok;
+  while (static_cast<int>(rows.size()) < params.max_scans) {
+    if (planner.done()) {
+      stop = LoopStop::done;
+      break;
+    }
+    PlanResult plan = planner.next_best_scan();
+    last = plan.status;
+    if (!plan.ok()) {
+      stop = plan.status == PlanStatus::done ? LoopStop::done : LoopStop::no_candidates;
+      break;
+    }
+    // The candidate set S of this step with utilities: the chosen one (its utility from the planner) and the rest
+    // of S re-scored in the same state (RuntimePlanner does not expose the values of next_best_scan()).
+    std::vector<LinearScanPath> paths{plan.candidate->path};
+    std::vector<double> utility{plan.stats.best_utility};
+    std::visit(
+        [&](auto& p) {
+          for (const ScanCandidate& c : p.candidate_set()) paths.push_back(c.path);
+          if (paths.size() == 1) return;
+          const std::span<const LinearScanPath> rest(paths.data() + 1, paths.size() - 1);
+          const UtilityContext uctx{p.scans(),
+                                    nbs::detail::splitmix64(p.setting().seed ^ nbs::detail::splitmix64(std::uint64_t(p.scans()))),
+                                    &p.params()};
+          const EvaluationResult res =
+              p.utility.evaluate(rest, p.sensor(), p.space(), uctx, EvaluationSetting{p.setting().threads, p.setting().sampling});
+          for (double v : res.values) utility.push_back(v);
+        },
+        planner.variant());
+    const int n = static_cast<int>(rows.size()) + 1;
+    write_candidates_ply(file(opt, numbered("candidates", n, "ply")), paths, utility);
+    if (opt.images) {
+      const auto t = std::chrono::steady_clock::now();
+      write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, paths, utility,
+                    std::size_t{0}, opt.threads);
+      t_render += seconds_since(t);
+    }
+    execute(plan.candidate->path, plan.stats, plan.stats.evaluated, plan.stats.best_utility);
+  }
 
-  std::filesystem::create_directories(opt.out);
-  const std::string ply = (std::filesystem::path(opt.out) / "points.ply").string();
-  write_ply_points(ply, cloud);
-
+  const IndexedMesh model = to_indexed_mesh(planner.mesh());
+  if (!model.triangles.empty()) write_mesh_ply(file(opt, "mesh.ply"), model);
+  const std::uint64_t voxels = write_voxels_ply(planner.space(), file(opt, "voxels.ply"));
+  if (opt.images && !model.triangles.empty()) {
+    const auto t = std::chrono::steady_clock::now();
+    write_picture(file(opt, "final.png"), model, embree::Camera::around(unknown, -1.0, 0.5, 0.5, 1.0), {}, {},
+                  std::nullopt, opt.threads);
+    t_render += seconds_since(t);
+  }
   const auto t_obs = std::chrono::steady_clock::now();
-  ObservabilitySettings os;
-  os.min_range_m = lsp.range.min_m;
-  os.max_range_m = lsp.range.max_m;
-  os.incidence_cutoff_rad = params.incidence_cutoff_rad;
-  const Observability obs = truth.observability(scanner.scene(), os);
+  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp, params));
   const double obs_s = seconds_since(t_obs);
-  const auto t_err = std::chrono::steady_clock::now();
-  const double rms = cloud.empty() ? 0.0 : truth.rms_error(cloud);
-  const double err_s = seconds_since(t_err);
+  const Row& fin = rows.back();
+  const double runtime = seconds_since(t_start);
+  double t_nbs_sum = 0.0;
+  for (const Row& r : rows) t_nbs_sum += r.t_nbs;
 
-  const Completeness c = coverage.completeness();
-  std::printf("points  %zu written to %s\n", cloud.size(), ply.c_str());
-  std::printf("c_a     %6.2f %%  (non-bottom samples within %.1f mm of a point)\n", 100.0 * c.c_a(),
+  std::printf("stop    %s after %zu scans (last plan: %s)\n", std::string(stop_name(stop)).c_str(), rows.size(),
+              std::string(to_string(last)).c_str());
+  std::printf("mesh    %zu vertices, %zu triangles -> %s; voxels %llu -> %s\n", model.vertices.size(),
+              model.triangles.size(), file(opt, "mesh.ply").c_str(), static_cast<unsigned long long>(voxels),
+              file(opt, "voxels.ply").c_str());
+  std::printf("c_a     %6.2f %%  (non-bottom samples within %.1f mm of a mesh vertex)\n", 100.0 * fin.c_a,
               1e3 * gts.completeness_radius_m);
-  std::printf("c_b     %6.2f %%  (all samples, bottom included)\n", 100.0 * c.c_b());
-  std::printf("c_obs   %6.2f %%  (observability ceiling: range %.2f-%.2f m, incidence <= %.0f deg, above z = 0)\n",
-              100.0 * obs.c_obs(), os.min_range_m, os.max_range_m, os.incidence_cutoff_rad * 180.0 / 3.141592653589793);
-  std::printf("c_a/c_obs %4.2f %%\n", obs.c_obs() > 0 ? 100.0 * c.c_a() / obs.c_obs() : 0.0);
-  std::printf("e_rms   %.3f mm  (RMS distance of the points to the true surface)\n", 1e3 * rms);
-  std::printf("l_s     %.3f m  (13 scan paths; travel between paths %.3f m, not included)\n",
-              scan_path_length(paths), travel_length(paths));
-  std::printf("time    %.1f s total (scanning %.1f s, c_obs %.1f s, e_rms %.1f s)\n", seconds_since(t_start), scan_s,
-              obs_s, err_s);
+  std::printf("c_b     %6.2f %%  (all samples, bottom included)\n", 100.0 * fin.c_b);
+  std::printf("c_obs   %6.2f %%  (observability ceiling; c_a/c_obs %.2f %%)\n", 100.0 * obs.c_obs(),
+              obs.c_obs() > 0 ? 100.0 * fin.c_a / obs.c_obs() : 0.0);
+  std::printf("e_rms   %.3f mm  (RMS distance of the mesh vertices to the true surface)\n", 1e3 * fin.e_m);
+  std::printf("l_s     %.3f m  (summed scan path length)\n", fin.l_s);
+  std::printf("time    %.1f s total (planning %.1f s, pictures %.1f s, c_obs %.1f s)\n", runtime, t_nbs_sum, t_render,
+              obs_s);
+
+  // report.json
+  using embree::json_number;
+  using embree::json_string;
+  const auto series = [&](auto get) {
+    std::vector<double> v;
+    for (const Row& r : rows) v.push_back(static_cast<double>(get(r)));
+    return embree::json_array(v);
+  };
+  std::vector<std::string> modes;
+  for (const Row& r : rows) modes.push_back(r.mode);
+  std::ofstream js(file(opt, "report.json"));
+  js << "{\n  \"method\": " << json_string(code) << ",\n  \"seed\": " << opt.seed
+     << ",\n  \"mesh\": " << json_string(opt.mesh) << ",\n  \"size_m\": " << json_number(opt.size_m)
+     << ",\n  \"initial_path\": " << first << ",\n  \"series\": {\n"
+     << "    \"scan\": " << series([](const Row& r) { return r.scan; }) << ",\n"
+     << "    \"c_m\": " << series([](const Row& r) { return r.c_m; }) << ",\n"
+     << "    \"d_m\": " << series([](const Row& r) { return r.d_m; }) << ",\n"
+     << "    \"c_a\": " << series([](const Row& r) { return r.c_a; }) << ",\n"
+     << "    \"c_b\": " << series([](const Row& r) { return r.c_b; }) << ",\n"
+     << "    \"e_rms_m\": " << series([](const Row& r) { return r.e_m; }) << ",\n"
+     << "    \"l_s_m\": " << series([](const Row& r) { return r.l_s; }) << ",\n"
+     << "    \"t_nbs_s\": " << series([](const Row& r) { return r.t_nbs; }) << ",\n"
+     << "    \"candidates\": " << series([](const Row& r) { return r.candidates; }) << ",\n"
+     << "    \"utility\": " << series([](const Row& r) { return r.utility; }) << ",\n"
+     << "    \"points\": " << series([](const Row& r) { return r.points; }) << ",\n"
+     << "    \"mode\": " << embree::json_array(modes) << "\n  },\n  \"final\": {\n"
+     << "    \"c_a\": " << json_number(fin.c_a) << ",\n    \"c_b\": " << json_number(fin.c_b)
+     << ",\n    \"c_obs\": " << json_number(obs.c_obs()) << ",\n    \"e_rms_m\": " << json_number(fin.e_m)
+     << ",\n    \"l_s_m\": " << json_number(fin.l_s) << ",\n    \"scans\": " << rows.size()
+     << ",\n    \"stop\": " << json_string(stop_name(stop)) << ",\n    \"mesh_vertices\": " << model.vertices.size()
+     << ",\n    \"mesh_triangles\": " << model.triangles.size() << ",\n    \"runtime_s\": " << json_number(runtime)
+     << "\n  }\n}\n";
+  js.close();
+  if (!js) throw FileError(file(opt, "report.json") + ": write failed");
   return 0;
 }
 

@@ -1,0 +1,195 @@
+#pragma once
+/// \file
+/// A small headless renderer on the Embree adapter: one primary ray per pixel against a Scene, Lambert shading with
+/// a headlight (light at the eye), and 3D line segments (scan candidates, Fig. 4.16) drawn on top as 2D lines
+/// (projected end points, Bresenham). For pictures of the model during a run; ≈ 10–50 ms for 480 × 360 pixels.
+/// Units: metres, radians; world frame (z up). Image: row-major RGB, top row first.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <thread>
+#include <vector>
+
+#include "nbs/core/error.hpp"
+#include "nbs/core/types.hpp"
+#include "nbs/embree/png.hpp"
+#include "nbs/embree/scene.hpp"
+
+namespace nbs::embree {
+
+/// A pinhole (perspective) or orthographic camera looking from `eye` at `target`; `up` fixes the roll.
+struct Camera {
+  Vec3 eye = Vec3(0.6, -0.6, 0.45);
+  Vec3 target = Vec3::Zero();
+  Vec3 up = Vec3::UnitZ();
+  bool orthographic = false;
+  double vertical_fov_rad = 0.5;   ///< perspective: full vertical field of view, in (0, π)
+  double ortho_height_m = 0.3;     ///< orthographic: height of the image in world units, > 0
+
+  /// Throws InvalidArgument naming the bad field (non-finite, eye = target, up parallel to the view, bad fov).
+  void validate() const {
+    nbs::detail::require(eye.allFinite() && target.allFinite() && up.allFinite(), "Camera: eye (", eye.transpose(),
+                    "), target (", target.transpose(), ") and up (", up.transpose(), ") must be finite");
+    const Vec3 f = target - eye;
+    nbs::detail::require(f.norm() > 1e-12, "Camera: eye and target coincide");
+    nbs::detail::require(f.normalized().cross(up).norm() > 1e-6 * up.norm() && up.norm() > 0.0,
+                    "Camera: up must be non-zero and not parallel to the viewing direction");
+    if (orthographic)
+      nbs::detail::require(std::isfinite(ortho_height_m) && ortho_height_m > 0.0, "Camera.ortho_height_m must be > 0, got ",
+                      ortho_height_m);
+    else
+      nbs::detail::require(vertical_fov_rad > 0.0 && vertical_fov_rad < 3.14159, "Camera.vertical_fov_rad must be in (0, pi), got ",
+                      vertical_fov_rad);
+  }
+
+  /// A perspective camera at azimuth/elevation (radians, azimuth from +x towards +y) around `box`, at the
+  /// distance where the box's bounding sphere fills `fill` of the vertical field of view.
+  [[nodiscard]] static Camera around(const Aabb& box, double azimuth_rad, double elevation_rad,
+                                     double vertical_fov_rad = 0.5, double fill = 0.9) {
+    nbs::detail::require(!box.empty() && box.min.allFinite() && box.max.allFinite(), "Camera::around: empty box");
+    Camera c;
+    c.vertical_fov_rad = vertical_fov_rad;
+    c.target = box.center();
+    const double radius = std::max(0.5 * box.extent().norm(), 1e-6);
+    const double dist = radius / std::sin(0.5 * vertical_fov_rad * fill);
+    c.eye = c.target + dist * Vec3(std::cos(elevation_rad) * std::cos(azimuth_rad),
+                                   std::cos(elevation_rad) * std::sin(azimuth_rad), std::sin(elevation_rad));
+    return c;
+  }
+};
+
+/// A 3D segment drawn as a 2D line of `width_px` (1–3) pixels.
+struct Segment {
+  Vec3 a, b;
+  Rgb8 color{255, 0, 0};
+  int width_px = 1;
+};
+
+struct RenderSetting {
+  std::uint32_t width = 480, height = 360;
+  Rgb8 background{255, 255, 255};
+  Rgb8 surface{205, 205, 215};   ///< albedo of the mesh
+  double ambient = 0.15;         ///< share of the albedo shown regardless of the light, [0, 1]
+  unsigned threads = 1;          ///< std::threads over image rows, [1, 256]; the image does not depend on it
+
+  void validate() const {
+    nbs::detail::require(width > 0 && height > 0 && width <= 8192 && height <= 8192, "RenderSetting: size ", width, " x ",
+                    height, " must be in [1, 8192] per side");
+    nbs::detail::require(threads >= 1 && threads <= 256, "RenderSetting.threads must be in [1, 256], got ", threads);
+    nbs::detail::require(ambient >= 0.0 && ambient <= 1.0, "RenderSetting.ambient must be in [0, 1], got ", ambient);
+  }
+};
+
+/// A rendered picture: RGB bytes and per-pixel hit distance (metres along the ray; +inf = background).
+struct Image {
+  std::uint32_t width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+  std::vector<float> depth;
+  [[nodiscard]] std::size_t hit_count() const {
+    return static_cast<std::size_t>(std::count_if(depth.begin(), depth.end(), [](float d) { return std::isfinite(d); }));
+  }
+  void write_png(const std::filesystem::path& path) const { embree::write_png(path, width, height, rgb); }
+};
+
+namespace render_detail {
+struct Frame {  // camera basis: right, image-up, forward
+  Vec3 r, u, f;
+  double tan_half = 0.0, half_h = 0.0, aspect = 1.0;
+};
+[[nodiscard]] inline Frame frame(const Camera& c, const RenderSetting& s) {
+  Frame fr;
+  fr.f = (c.target - c.eye).normalized();
+  fr.r = fr.f.cross(c.up).normalized();
+  fr.u = fr.r.cross(fr.f);
+  fr.tan_half = std::tan(0.5 * c.vertical_fov_rad);
+  fr.half_h = 0.5 * c.ortho_height_m;
+  fr.aspect = double(s.width) / double(s.height);
+  return fr;
+}
+}  // namespace render_detail
+
+/// Pixel coordinates (x right, y down, continuous; pixel (i, j) covers [i, i+1) × [j, j+1)) of world point `p`, or
+/// nullopt if it lies behind a perspective camera. Throws InvalidArgument for an invalid camera or setting.
+[[nodiscard]] inline std::optional<Eigen::Vector2d> project(const Camera& cam, const RenderSetting& s, const Vec3& p) {
+  cam.validate();
+  s.validate();
+  const render_detail::Frame fr = render_detail::frame(cam, s);
+  const Vec3 d = p - cam.eye;
+  const double z = d.dot(fr.f);
+  double x = d.dot(fr.r), y = d.dot(fr.u);
+  if (cam.orthographic) {
+    x /= fr.half_h, y /= fr.half_h;
+  } else {
+    if (!(z > 1e-9)) return std::nullopt;
+    x /= z * fr.tan_half, y /= z * fr.tan_half;
+  }
+  return Eigen::Vector2d((0.5 + 0.5 * x / fr.aspect) * s.width, (0.5 - 0.5 * y) * s.height);
+}
+
+/// Renders `scene` (may be null: background only) seen by `cam`, then draws `segments` on top. Throws
+/// InvalidArgument for an invalid camera or setting.
+[[nodiscard]] inline Image render(const Scene* scene, const Camera& cam, std::span<const Segment> segments = {},
+                                  const RenderSetting& s = {}) {
+  cam.validate();
+  s.validate();
+  const render_detail::Frame fr = render_detail::frame(cam, s);
+  Image img{s.width, s.height, std::vector<std::uint8_t>(3ull * s.width * s.height),
+            std::vector<float>(std::size_t(s.width) * s.height, std::numeric_limits<float>::infinity())};
+  const auto shade_rows = [&](std::uint32_t j0, std::uint32_t j1) {
+   for (std::uint32_t j = j0; j < j1; ++j)
+    for (std::uint32_t i = 0; i < s.width; ++i) {
+      const double x = (2.0 * (i + 0.5) / s.width - 1.0) * fr.aspect, y = 1.0 - 2.0 * (j + 0.5) / s.height;
+      Vec3 origin = cam.eye, dir = fr.f;
+      if (cam.orthographic) origin += fr.half_h * (x * fr.r + y * fr.u);
+      else dir = (fr.f + fr.tan_half * (x * fr.r + y * fr.u)).normalized();
+      const std::size_t k = std::size_t(j) * s.width + i;
+      Rgb8 c = s.background;
+      if (scene != nullptr) {
+        if (const auto hit = scene->first_hit(origin, dir)) {
+          img.depth[k] = static_cast<float>(hit->distance);
+          const double lambert = std::abs(hit->normal.dot(dir));  // headlight; both faces lit
+          const double shade = s.ambient + (1.0 - s.ambient) * lambert;
+          for (int ch = 0; ch < 3; ++ch) c[ch] = static_cast<std::uint8_t>(std::lround(shade * s.surface[ch]));
+        }
+      }
+      std::copy(c.begin(), c.end(), img.rgb.begin() + static_cast<std::ptrdiff_t>(3 * k));
+    }
+  };
+  {  // disjoint row blocks; each pixel depends only on its own ray
+    const std::uint32_t n = std::min<std::uint32_t>(s.threads, s.height);
+    std::vector<std::thread> pool;
+    for (std::uint32_t t = 1; t < n; ++t)
+      pool.emplace_back(shade_rows, std::uint32_t(std::uint64_t(s.height) * t / n), std::uint32_t(std::uint64_t(s.height) * (t + 1) / n));
+    shade_rows(0, std::uint32_t(s.height / n));
+    for (std::thread& th : pool) th.join();
+  }
+  const auto plot = [&](long x, long y, const Rgb8& c) {
+    if (x < 0 || y < 0 || x >= long(s.width) || y >= long(s.height)) return;
+    std::copy(c.begin(), c.end(), img.rgb.begin() + static_cast<std::ptrdiff_t>(3 * (std::size_t(y) * s.width + x)));
+  };
+  const double limit = 4.0 * std::max(s.width, s.height);  // clip absurd projections (points near the eye plane)
+  for (const Segment& seg : segments) {
+    const auto pa = project(cam, s, seg.a), pb = project(cam, s, seg.b);
+    if (!pa || !pb || !pa->allFinite() || !pb->allFinite()) continue;
+    if (pa->cwiseAbs().maxCoeff() > limit || pb->cwiseAbs().maxCoeff() > limit) continue;
+    long x0 = std::lround(std::floor(pa->x())), y0 = std::lround(std::floor(pa->y()));
+    const long x1 = std::lround(std::floor(pb->x())), y1 = std::lround(std::floor(pb->y()));
+    const long dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+    const int w = std::clamp(seg.width_px, 1, 3);
+    for (long err = dx + dy;;) {  // Bresenham
+      for (int oy = 0; oy < w; ++oy)
+        for (int ox = 0; ox < w; ++ox) plot(x0 + ox - w / 2, y0 + oy - w / 2, seg.color);
+      if (x0 == x1 && y0 == y1) break;
+      const long e2 = 2 * err;
+      if (e2 >= dy) err += dy, x0 += sx;
+      if (e2 <= dx) err += dx, y0 += sy;
+    }
+  }
+  return img;
+}
+
+}  // namespace nbs::embree
