@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds nbs_model (Release, tests off) in build/demo and runs it on the
-# bundled Stanford bunny; the merged point cloud goes to out/points.ply. Extra arguments go to nbs_model
-# (e.g. scripts/demo.sh --seed 7; see nbs_model --help).
+# bundled Stanford bunny: autonomous modeling with the NBS planner (method C_H) until done or 30 scans; mesh,
+# voxels, candidates, pictures and report.json go to out/. Extra arguments go to nbs_model
+# (e.g. scripts/demo.sh --seed 7 --method C_S --scans 10; see nbs_model --help).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
