@@ -115,11 +115,18 @@ TEST_CASE("notch of Eq. 4.41 and mean", "[eval]") {
   CHECK(nbs::eval::notch(v({4, 1, 3, 2})) == Approx(1.57 * 1.5 / 2.0));        // 1.1775
   CHECK(nbs::eval::notch(v({7, 1, 3, 9, 5})) == Approx(1.57 * 4.0 / std::sqrt(5.0)));
   CHECK(nbs::eval::notch(v({10, 10, 10})) == 0.0);
-  // 100 runs, IQR 3 (the thesis's s = 100): ±0.471, as C_H's ±0.47 in Tab. 4.5.
+  // 100 runs (the thesis's s = 100): 25 × 9, 50 × 10, 25 × 12. Q1: h = 24.75 -> 9 + 0.75·(10 − 9) = 9.75;
+  // Q3: h = 74.25 -> 10 + 0.25·(12 − 10) = 10.5; IQR 0.75, notch 1.57·0.75/10 = 0.11775.
   std::vector<double> hundred;
   for (int i = 0; i < 100; ++i) hundred.push_back(i < 25 ? 9 : i < 75 ? 10 : 12);
-  CHECK(nbs::eval::iqr(hundred) == Approx(3.0));  // Q1: h = 24.75 -> 9 + 0.75·1; Q3: h = 74.25 -> 10 + 0.25·2
-  CHECK(nbs::eval::notch(hundred) == Approx(0.471));
+  CHECK(nbs::eval::quantile(hundred, 0.25) == Approx(9.75));
+  CHECK(nbs::eval::quantile(hundred, 0.75) == Approx(10.5));
+  CHECK(nbs::eval::notch(hundred) == Approx(0.11775));
+  // x_i = i, i = 0..99: Q1 = 24.75, Q3 = 74.25, IQR 49.5, notch 7.7715.
+  std::vector<double> ramp;
+  for (int i = 0; i < 100; ++i) ramp.push_back(i);
+  CHECK(nbs::eval::iqr(ramp) == Approx(49.5));
+  CHECK(nbs::eval::notch(ramp) == Approx(7.7715));
   CHECK(nbs::eval::mean(v({1, 2, 3, 4})) == 2.5);
   CHECK_THROWS_AS(nbs::eval::mean(std::vector<double>{}), std::invalid_argument);
 }
@@ -227,7 +234,7 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
   rejected({"--mesh", bunny, "--out", out, "--config", cfg.string()}, "target_coverage");
   const fs::path text = tmp.path / "notamesh.obj";
   std::ofstream(text) << "this is not a mesh\n";
-  rejected({"--mesh", text.string(), "--out", out}, "not a mesh");
+  rejected({"--mesh", text.string(), "--out", out}, "error: mesh '" + text.string() + "': ");
   rejected({"--mesh", (tmp.path / "missing.ply").string(), "--out", out}, "missing.ply");
   CHECK(run_cli({"--help"}, log) == 0);
   CHECK_THAT(log, Catch::Contains("--shard K/N"));
