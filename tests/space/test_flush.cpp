@@ -12,6 +12,7 @@
 
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
+#include "support/random_rays.hpp"
 #include "support/synthetic_scan.hpp"
 
 namespace {
@@ -46,16 +47,7 @@ StateMap states_of(const Space& s) {
   return m;
 }
 
-std::vector<nbs::Ray> random_rays(std::size_t n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-0.25, 0.25);
-  std::vector<nbs::Ray> rays(n);
-  for (auto& r : rays) {
-    r.origin = Vec3(u(rng), u(rng), 0.1 + u(rng));
-    r.end = Vec3(0.3 * u(rng), 0.3 * u(rng), 0.08 + 0.3 * u(rng));
-  }
-  return rays;
-}
+using nbs::test::random_rays;
 
 // Per ray: visited keys and states, hit.
 struct CastLog {

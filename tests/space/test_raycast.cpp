@@ -6,6 +6,7 @@
 
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "nbs/space/ray_traversal.hpp"
+#include "support/random_rays.hpp"
 #include "support/synthetic_scan.hpp"
 
 namespace {
@@ -19,16 +20,7 @@ nbs::ProbabilisticVoxelSpace<> modelled_sphere(const nbs::test::SphereLspSetup& 
   return space;
 }
 
-std::vector<nbs::Ray> random_rays(std::size_t n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-0.25, 0.25);
-  std::vector<nbs::Ray> rays(n);
-  for (auto& r : rays) {
-    r.origin = Vec3(u(rng), u(rng), 0.1 + u(rng));
-    r.end = Vec3(0.3 * u(rng), 0.3 * u(rng), 0.08 + 0.3 * u(rng));
-  }
-  return rays;
-}
+using nbs::test::random_rays;
 }  // namespace
 
 TEST_CASE("cast_ray stops at the first occupied voxel along the DDA path", "[space][raycast]") {

@@ -285,10 +285,14 @@ private:
   void walk(const Vec3& a, const Vec3& b, bool include_end, IntegrationStats& st, Apply&& apply) {
     const double inv = grid_.inverse_resolution();
     if constexpr (kNative) {
+      IntegrationStats local;  // counted here, not through `st`, so the counters stay in registers in the loop
       detail::walk_blocks(backend_, a * inv, b * inv, include_end,
                           [&](typename Backend::Block& blk, int i, const VoxelKey& k, bool is_end) {
-                            update_native(blk, i, st, [&](State& s) { return apply(s, k, is_end); });
+                            update_native(blk, i, local, [&](State& s) { return apply(s, k, is_end); });
                           });
+      st.voxel_updates += local.voxel_updates;
+      st.voxels_same_scan += local.voxels_same_scan;
+      st.voxels_similar_beam += local.voxels_similar_beam;
     } else {
       detail::SegmentWalker w(a * inv, b * inv);
       for (;;) {
@@ -305,10 +309,18 @@ private:
   void band_pass(const BeamRecord& b, IntegrationStats& st) {
     const double w = model_.band_half_width_m(b.beam);
     const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
+    const VoxelKey end_key = *grid_.key_of(b.end);
+    if constexpr (kNative) {
+      // The band lies inside the end voxel (which lies inside voxel_bounds()): no clipping, no walk.
+      if (grid_.key_of(a) == end_key && grid_.key_of(e) == end_key) {
+        update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
+                      [&](State& s) { return model_.update_band(s, b.beam, 0.0, true); });
+        return;
+      }
+    }
     double t0, t1;
     if (!detail::clip_segment(a, e, voxel_bounds_, t0, t1)) return;  // cannot happen: b.end is inside
     const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds_), to = detail::point_in_box(a, e, t1, voxel_bounds_);
-    const VoxelKey end_key = *grid_.key_of(b.end);
     const auto update = [&](State& s, const VoxelKey& k, bool) {
       const bool is_end = k == end_key;
       const double offset = is_end ? 0.0 : (grid_.center(k) - b.origin).dot(b.dir) - b.range_m;

@@ -17,21 +17,47 @@ template <class S>
 inline constexpr bool is_hashed_block_backend_v<HashedBlockBackend<S>> = true;
 
 /// Writing walk from a to b (voxel units, valid keys): visit(Block&, index, key, is_end_voxel) for each voxel,
-/// allocating blocks as needed; the end voxel is skipped unless include_end.
+/// allocating blocks as needed; the end voxel is skipped unless include_end. Inside a block the voxel index is
+/// stepped directly; the block is looked up only when the walk leaves it.
 template <class S, class Visit>
 void walk_blocks(HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, bool include_end, Visit&& visit) {
   using BE = HashedBlockBackend<S>;
+  constexpr int kMask = BE::kEdge - 1;
   SegmentWalker w(a, b);
-  VoxelKey k = w.key();
-  auto* blk = &be.block(BE::block_id(k));
+  auto* blk = &be.block(BE::block_id(w.key()));
+  int i = BE::local_index(w.key());
+  const int sx = w.sign(0), sy = w.sign(1), sz = w.sign(2);
+  int lx = w.key().x & kMask, ly = w.key().y & kMask, lz = w.key().z & kMask;  // position inside the block
   for (;;) {
     const bool last = w.remaining() == 0;
     if (last && !include_end) return;
-    visit(*blk, BE::local_index(k), k, last);
+    visit(*blk, i, w.key(), last);
     if (last) return;
-    const int axis = w.step();
-    k = w.key();
-    if ((k[axis] & (BE::kEdge - 1)) == (w.sign(axis) > 0 ? 0 : BE::kEdge - 1)) blk = &be.block(BE::block_id(k));
+    bool leaves;
+    switch (w.step()) {
+      case 0:
+        lx += sx;
+        leaves = static_cast<unsigned>(lx) > static_cast<unsigned>(kMask);
+        i += sx;
+        break;
+      case 1:
+        ly += sy;
+        leaves = static_cast<unsigned>(ly) > static_cast<unsigned>(kMask);
+        i += sy * BE::kEdge;
+        break;
+      default:
+        lz += sz;
+        leaves = static_cast<unsigned>(lz) > static_cast<unsigned>(kMask);
+        i += sz * BE::kEdge * BE::kEdge;
+        break;
+    }
+    if (leaves) {
+      blk = &be.block(BE::block_id(w.key()));
+      i = BE::local_index(w.key());
+      lx &= kMask;
+      ly &= kMask;
+      lz &= kMask;
+    }
   }
 }
 
