@@ -5,7 +5,8 @@
 ///  - v inside a projected face: the face is split (1→3, or 1→2 when v lies on a border edge);
 ///  - otherwise v is joined to a fan of its visible neighbours (consecutive in angle around v), where a fan
 ///    triangle must not cross an existing edge, contain a neighbour, reuse a directed edge, or be a sliver;
-///  - then edges opposite v are flipped while the local Delaunay criterion (in v's tangent plane) asks for it.
+///  - then edges opposite v are flipped while the local Delaunay criterion (in v's tangent plane) asks for it;
+///  - finally border loops and notches that fit inside R_m (gaps the fan left) are closed (close_gaps).
 /// Every step keeps: a directed edge belongs to at most one face, no face repeats a vertex set.
 
 #include <algorithm>
@@ -26,6 +27,8 @@ struct TriangulationSettings {
   double min_angle_rad = 0.12;    ///< ≈7°: no fan triangle with a smaller interior angle.
   int max_fan_neighbours = 16;    ///< nearest neighbours considered for the fan.
   int max_flips = 64;             ///< per inserted vertex.
+  int max_gap_edges = 12;         ///< border loops / notches up to this many edges are closed (close_gaps).
+  double min_notch_ratio = 1.3;   ///< a notch is closed if its border is this many times longer than its chord.
 };
 
 class LocalTriangulator {
@@ -66,7 +69,7 @@ public:
     collect_local_faces();
     if (!split_containing_face()) fan();
     legalize();
-    close_small_holes();
+    close_gaps();
     return touched_;
   }
 
@@ -249,46 +252,130 @@ private:
     }
     return kNoVertex;
   }
-  [[nodiscard]] bool fill_ok(VertexId a, VertexId b, VertexId c) const {
-    return normal_agrees(a, b, c) && (pos_[a] - pos_[b]).norm() <= s_.radius_m &&
-           (pos_[b] - pos_[c]).norm() <= s_.radius_m && (pos_[c] - pos_[a]).norm() <= s_.radius_m &&
-           min_angle(a, b, c) >= 0.5 * s_.min_angle_rad;
-  }
-  /// Closes border loops of 3 or 4 edges through v or its neighbours (the triangle / quad the fan left open):
-  /// Bodenmüller's "triangles are recalculated from the changed edges". Fill faces must agree with v's normal,
-  /// so the back side of a lone triangle or quad is never added.
-  void close_small_holes() {
+  /// Closes the gaps the fan left: Bodenmüller joins every pair of vertices within R_m, so a border loop or a border
+  /// notch that fits inside R_m is a triangulation gap, not a hole. From v and each neighbour the border is walked
+  /// (faces on the left, the gap on the right) for at most `max_gap_edges` edges; a chain x = c0 → … → ck is filled
+  ///  - when it closes (ck = x): a small loop;
+  ///  - when |ck − x| ≤ R_m, the chord ck–x is not an edge yet and the chain is at least `min_notch_ratio` times
+  ///    longer than the chord: a notch cut into the mesh (a gently curved hole rim is shorter and stays open).
+  /// The polygon must be simple and clockwise in v's tangent plane (the gap lies on the right of the border), contain
+  /// no other local vertex, and be ear-clippable with new edges ≤ R_m and faces agreeing with v's normal; all faces
+  /// are checked before any is added, so a gap is either filled completely or left alone.
+  void close_gaps() {
     std::vector<VertexId>& cand = local_;
     cand.push_back(v_);
-    for (VertexId x : cand) {
-      for (int guard = 0; guard < 4; ++guard) {
-        const VertexId y = next_border(x);
-        if (y == kNoVertex) break;
-        const VertexId z = next_border(y);
-        if (z == kNoVertex || z == x) break;
-        const VertexId w = next_border(z);
-        bool filled = false;
-        if (w == x) {  // loop x→y→z→x
-          if (fill_ok(x, z, y)) {
-            fs_.add(x, z, y, scan_);
-            filled = true;
-          }
-        } else if (w != kNoVertex && w != y && next_border(w) == x && !fs_.has_edge(x, z) && !fs_.has_edge(y, w)) {
-          const bool xz = (pos_[x] - pos_[z]).squaredNorm() <= (pos_[y] - pos_[w]).squaredNorm();
-          if (xz && fill_ok(x, w, z) && fill_ok(x, z, y)) {
-            fs_.add(x, w, z, scan_);
-            fs_.add(x, z, y, scan_);
-            filled = true;
-          } else if (!xz && fill_ok(y, x, w) && fill_ok(y, w, z)) {
-            fs_.add(y, x, w, scan_);
-            fs_.add(y, w, z, scan_);
-            filled = true;
+    for (std::size_t i = 0; i < cand.size(); ++i)
+      for (int guard = 0; guard < 4 && close_gap_from(cand[i]); ++guard) {
+      }
+  }
+
+  bool close_gap_from(VertexId x) {
+    const double r2 = s_.radius_m * s_.radius_m;
+    chain_.assign(1, x);
+    chain_p2_.assign(1, project(x));
+    double length = 0.0;
+    for (int k = 1; k <= s_.max_gap_edges; ++k) {
+      const VertexId y = next_border(chain_.back());
+      if (y == kNoVertex) return false;
+      if (y == x) return k >= 3 && fill_polygon(true);
+      if (std::find(chain_.begin(), chain_.end(), y) != chain_.end()) return false;
+      if ((pos_[y] - pos_[v_]).squaredNorm() > 4.0 * r2) return false;
+      length += (pos_[y] - pos_[chain_.back()]).norm();
+      chain_.push_back(y);
+      chain_p2_.push_back(project(y));
+      const double chord2 = (pos_[y] - pos_[x]).squaredNorm();
+      if (k >= 2 && chord2 <= r2 && length * length >= s_.min_notch_ratio * s_.min_notch_ratio * chord2 &&
+          !fs_.has_edge(x, y) && fill_polygon(false))
+        return true;
+    }
+    return false;
+  }
+
+  /// Ear-clips the polygon chain_ (closed by the chord back to chain_[0] unless `closed`). See close_gaps().
+  bool fill_polygon(bool closed) {
+    const std::size_t m = chain_.size();
+    // Clockwise in projection (the gap is on the right of the border walk).
+    double area2 = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const P2& a = chain_p2_[i];
+      const P2& b = chain_p2_[(i + 1) % m];
+      area2 += a.x() * b.y() - a.y() * b.x();
+    }
+    if (area2 >= -kEps) return false;
+    // Simple: no two non-adjacent polygon edges cross.
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t j = i + 2; j < m; ++j) {
+        if (i == 0 && j == m - 1) continue;
+        if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[(j + 1) % m])) return false;
+      }
+    // No other local vertex inside (winding number in projection).
+    for (VertexId q : local_) {
+      if (std::find(chain_.begin(), chain_.end(), q) != chain_.end()) continue;
+      const P2 pq = project(q);
+      int wind = 0;
+      for (std::size_t i = 0; i < m; ++i) {
+        const P2& a = chain_p2_[i];
+        const P2& b = chain_p2_[(i + 1) % m];
+        if (a.y() <= pq.y()) {
+          if (b.y() > pq.y() && orient(a, b, pq) > 0.0) ++wind;
+        } else if (b.y() <= pq.y() && orient(a, b, pq) < 0.0) {
+          --wind;
+        }
+      }
+      if (wind != 0) return false;
+    }
+    // Ear clipping on the reversed (counter-clockwise) polygon; faces are collected first, added at the end.
+    ring_.clear();
+    for (std::size_t i = m; i-- > 0;) ring_.push_back(static_cast<std::uint32_t>(i));
+    ears_.clear();
+    const double r2 = s_.radius_m * s_.radius_m;
+    while (ring_.size() > 3) {
+      std::size_t best = ring_.size();
+      double best_len = r2;
+      for (std::size_t i = 0; i < ring_.size(); ++i) {
+        const std::uint32_t ia = ring_[(i + ring_.size() - 1) % ring_.size()], ib = ring_[i],
+                            ic = ring_[(i + 1) % ring_.size()];
+        const P2 &pa = chain_p2_[ia], &pb = chain_p2_[ib], &pc = chain_p2_[ic];
+        if (orient(pa, pb, pc) <= kEps) continue;
+        const double len = (pos_[chain_[ia]] - pos_[chain_[ic]]).squaredNorm();
+        if (len > best_len) continue;
+        bool empty = true;
+        for (std::uint32_t j : ring_) {
+          if (j == ia || j == ib || j == ic) continue;
+          const P2& x = chain_p2_[j];
+          if (orient(pa, pb, x) >= -kEps && orient(pb, pc, x) >= -kEps && orient(pc, pa, x) >= -kEps) {
+            empty = false;
+            break;
           }
         }
-        if (!filled) break;
-        ++touched_;
+        if (!empty || fs_.has_edge(chain_[ia], chain_[ic]) || !gap_face_ok(chain_[ia], chain_[ib], chain_[ic], closed))
+          continue;
+        best = i;
+        best_len = len;
       }
+      if (best == ring_.size()) return false;
+      const std::size_t n = ring_.size();
+      ears_.push_back({chain_[ring_[(best + n - 1) % n]], chain_[ring_[best]], chain_[ring_[(best + 1) % n]]});
+      ring_.erase(ring_.begin() + static_cast<std::ptrdiff_t>(best));
     }
+    const VertexId a = chain_[ring_[0]], b = chain_[ring_[1]], c = chain_[ring_[2]];
+    if (orient(chain_p2_[ring_[0]], chain_p2_[ring_[1]], chain_p2_[ring_[2]]) <= kEps || !gap_face_ok(a, b, c, closed))
+      return false;
+    if (!closed && (pos_[chain_.front()] - pos_[chain_.back()]).squaredNorm() > r2) return false;
+    ears_.push_back({a, b, c});
+    for (const auto& t : ears_) {
+      fs_.add(t[0], t[1], t[2], scan_);
+      ++touched_;
+    }
+    return true;
+  }
+  /// A fill face of a closed loop only has to be counter-clockwise in v's tangent plane (checked by the caller): the
+  /// gaps are often near-collinear slivers whose 3D normal is meaningless. Notch faces must also agree with v's
+  /// normal and not be slivers.
+  [[nodiscard]] bool gap_face_ok(VertexId a, VertexId b, VertexId c, bool closed) const {
+    return (closed || (normal_agrees(a, b, c) && min_angle(a, b, c) >= 0.25 * s_.min_angle_rad)) &&
+           fs_.face_with(a, b) == FaceStore::kNoFace && fs_.face_with(b, c) == FaceStore::kNoFace &&
+           fs_.face_with(c, a) == FaceStore::kNoFace;
   }
 
   /// Flips edges opposite v while the opposite vertex lies inside the circumcircle (Lawson), bounded by max_flips.
@@ -337,6 +424,10 @@ private:
   std::vector<Edge2> edges_;
   std::vector<FanCandidate> vis_;
   std::vector<std::uint32_t> new_faces_;
+  std::vector<VertexId> chain_;
+  std::vector<P2> chain_p2_;
+  std::vector<std::uint32_t> ring_;
+  std::vector<std::array<VertexId, 3>> ears_;
 };
 
 }  // namespace nbs::detail
