@@ -103,6 +103,20 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
     for (const Ray& ray : buf.rays) {
       const Vec3 dir = (ray.end - ray.origin).normalized();
       std::uint32_t n = 0;
+      const auto emit = [&](const VoxelKey& k, const VoxelClass& c, bool first_visit) {
+        VoxelVisit v;
+        v.key = k;
+        v.probability = c.probability;
+        v.entropy_bits = c.entropy_bits;
+        v.occupied = c.occupied;
+        v.observed = c.observed;
+        v.first_visit = first_visit;
+        v.features = c.features;
+        v.direction = dir;
+        v.distance_m = (grid.center(k) - ray.origin).norm();
+        v.index = n++;
+        term.visit(v);
+      };
       term.begin_ray();
       RaycastResult res;
       typename PlanningSnapshot<Space>::Clipped clipped;
@@ -112,38 +126,23 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
       }
       if (fast && clipped.meets && clipped.inside) {
         res = snapshot.cast(clipped, [&](const VoxelKey& k, const VoxelClass& c, std::size_t box_index) {
-          VoxelVisit v;
-          v.key = k;
-          v.probability = c.probability;
-          v.entropy_bits = c.entropy_bits;
-          v.occupied = c.occupied;
-          v.observed = c.observed;
-          v.first_visit = buf.bits.insert(box_index);
-          v.features = c.features;
-          v.direction = dir;
-          v.distance_m = (grid.center(k) - ray.origin).norm();
-          v.index = n++;
-          term.visit(v);
+          emit(k, c, buf.bits.insert(box_index));
           return true;
         });
       } else if (!fast || clipped.meets) {
         res = space.cast_ray(ray, [&](const VoxelKey& k, const State& s) {
-          VoxelVisit v;
-          v.key = k;
-          v.probability = model.probability(s);
-          v.occupied = model.occupied(s);
+          VoxelClass c;
+          c.probability = model.probability(s);
+          c.entropy_bits = -1.0;  // computed by VoxelVisit::entropy() if a term asks
+          c.occupied = model.occupied(s);
           if constexpr (std::equality_comparable<State>) {
-            v.observed = !(s == State{}) || space.observed(k);  // only unknown-looking states need the lookup
+            c.observed = !(s == State{}) || space.observed(k);  // only unknown-looking states need the lookup
           } else {
-            v.observed = space.observed(k);
+            c.observed = space.observed(k);
           }
-          v.first_visit = snapshot.contains(k) ? buf.bits.insert(snapshot.index_of(k)) : buf.visited.insert(k.pack());
           // Features exist only for surface voxels (p ≥ 0.95, Sec. 4.5.1), which are occupied; look up only those.
-          v.features = (have_features && v.occupied) ? features.find(k) : nullptr;
-          v.direction = dir;
-          v.distance_m = (grid.center(k) - ray.origin).norm();
-          v.index = n++;
-          term.visit(v);
+          c.features = (have_features && c.occupied) ? features.find(k) : nullptr;
+          emit(k, c, snapshot.contains(k) ? buf.bits.insert(snapshot.index_of(k)) : buf.visited.insert(k.pack()));
           return true;
         });
       }
