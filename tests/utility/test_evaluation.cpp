@@ -201,7 +201,7 @@ TEST_CASE("bad input: empty list, invalid sensor or sampling, non-finite paths",
 // ---- The evaluator's snapshot path (detail/planning_snapshot.hpp) against space.cast_ray ---------------------------
 namespace {
 
-// Forwards the PlanningSpace API of a space but not bounds_keys()/for_each(), so the evaluator cannot snapshot it and
+// Forwards the EvaluationSpace API of a space but not bounds_keys()/for_each(), so the evaluator cannot snapshot it and
 // takes the space.cast_ray path with per-voxel lookups.
 template <class Space>
 struct CastRayOnly {

@@ -28,7 +28,7 @@ namespace nbs {
 /// A voxel space the planner can own: integrate scans, ray-cast for generators, replanning and utilities, and
 /// store surface features. ProbabilisticVoxelSpace models it.
 template <class S>
-concept PlannerSpace = PlanningSpace<S> && UtilityPlanningSpace<S> && FeatureSpace<S> &&
+concept PlannerSpace = PlanningSpace<S> && EvaluationSpace<S> && FeatureSpace<S> &&
                        requires(S& s, const Scan& scan) { s.integrate(scan); };
 
 /// A mesh the planner can own: an EdgeMesh with relative density (d̄_m), current-scan tracking (M_cur) and

@@ -29,7 +29,7 @@ namespace nbs {
 
 /// What the evaluator needs of a voxel space (ProbabilisticVoxelSpace models it).
 template <class S>
-concept PlanningSpace = requires(const S& s, const Ray& r, const VoxelKey& k) {
+concept EvaluationSpace = requires(const S& s, const Ray& r, const VoxelKey& k) {
   typename S::State;
   s.cast_ray(r, [](const VoxelKey&, const typename S::State&) { return true; });
   { s.model().probability(typename S::State{}) } -> std::convertible_to<double>;
@@ -83,7 +83,7 @@ struct EvaluationBuffers {
 /// Evaluates one candidate with `term` (reset by begin_candidate). With an enabled `snapshot`, rays are cast over it
 /// (the voxels, order and stop rule of space.cast_ray, see planning_snapshot.hpp); otherwise through
 /// space.cast_ray with per-voxel lookups. Both feed the term the same VoxelVisits.
-template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
                   const PlanningSnapshot<Space>& snapshot, const RaySampling& sampling, Term& term,
                   EvaluationBuffers& buf, double& value, std::uint64_t& ray_count, std::uint64_t& voxel_count) {
@@ -160,7 +160,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
 /// (status no_candidates for an empty list). The sensor is validated first; invalid input throws InvalidArgument
 /// (the lowest-index candidate's error if several fail). Thread-safety: `space` is only read; do not integrate
 /// into it concurrently.
-template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 [[nodiscard]] EvaluationResult evaluate_candidates(std::span<const LinearScanPath> candidates, const Sensor& sensor,
                                                    const Space& space, const Term& prototype,
                                                    const EvaluationSetting& setting = {}) {
@@ -214,7 +214,7 @@ template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 }
 
 /// Convenience overload for a vector of candidates.
-template <PlanningSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 [[nodiscard]] EvaluationResult evaluate_candidates(const std::vector<LinearScanPath>& candidates, const Sensor& sensor,
                                                    const Space& space, const Term& prototype,
                                                    const EvaluationSetting& setting = {}) {

@@ -30,7 +30,7 @@
 
 namespace nbs::detail {
 
-/// What the snapshot needs of a space beyond PlanningSpace.
+/// What the snapshot needs of a space beyond EvaluationSpace.
 template <class S>
 concept SnapshotSpace = requires(const S& s) {
   { s.bounds_keys() } -> std::convertible_to<KeyBox>;
