@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -75,6 +76,14 @@ TEST_CASE("holes punched in a sphere are found with areas within 15 % (Sec. 4.4,
     CHECK(best->area_m2 == Approx(cap).epsilon(0.15));
     CHECK(best->normal.dot(dir) > 0.95);
     CHECK(best->largest_direction.norm() == Approx(r * std::sin(ang)).epsilon(0.2));
+    // The loop hugs the true rim: every loop vertex within R_m / 2 of the rim circle (geodesic on the sphere).
+    double rim_dev = 0.0;
+    for (auto v : best->vertices) {
+      const double a = std::acos(std::clamp(mesh.position(v).normalized().dot(dir), -1.0, 1.0));
+      rim_dev = std::max(rim_dev, std::abs(a - ang) * r);
+    }
+    INFO("largest rim deviation " << rim_dev << " m");
+    CHECK(rim_dev <= 0.5 * nbs::Parameters{}.mesh_radius_m);
   }
 }
 
