@@ -197,17 +197,27 @@ private:
       if (d2 <= r2) out.emplace_back(d2, id);
     });
   }
-  [[nodiscard]] bool too_close(const Vec3& p) const {
+  /// Density limitation: true if a stored point lies closer than R_r to p. The point that rejected the previous
+  /// incoming point is tried first (neighbouring rays of a profile usually fall near the same stored point), then
+  /// the hash cell of p, then the other cells within R_r; the search stops at the first hit.
+  [[nodiscard]] bool too_close(const Vec3& p) {
     const double r2 = settings_.reduction_radius_m * settings_.reduction_radius_m;
-    bool close = false;
-    grid_.for_each_candidate(p, settings_.reduction_radius_m, [&](std::uint32_t id) {
-      close = close || (pos_[id] - p).squaredNorm() < r2;
+    if (last_close_ < pos_.size() && (pos_[last_close_] - p).squaredNorm() < r2) return true;
+    return grid_.any_candidate(p, settings_.reduction_radius_m, [&](std::uint32_t id) {
+      if (!((pos_[id] - p).squaredNorm() < r2)) return false;
+      last_close_ = id;
+      return true;
     });
-    return close;
   }
-  /// Estimates the normal of v from its R_n ball (in `ball_` after gather). True if robust.
+  /// Radius of the ball gathered first: min(R_n, R_m). Normals and N_act use the part within R_n (so with R_m < R_n
+  /// they see only the R_m ball, as before this ball was split); triangulate() widens it to R_m when needed.
+  [[nodiscard]] double first_ball_radius() const {
+    return std::min(settings_.normal_radius_m, settings_.mesh_radius_m);
+  }
+  /// Estimates the normal of v from its R_n ball (in `ball_` after gather; farther entries are ignored). True if
+  /// robust.
   bool estimate(VertexId v);
-  /// Triangulates v (normal set) using its R_m ball in `ball_`.
+  /// Triangulates v (normal set) from the nearest meshed points of its R_m ball (`ball_` holds v's R_n ball).
   void triangulate(VertexId v);
 
   StreamingMeshSettings settings_;
@@ -221,6 +231,7 @@ private:
   detail::SpatialHash grid_;
   detail::LocalTriangulator tri_;
   std::uint32_t scan_ = 0;
+  VertexId last_close_ = kNoVertex;  ///< the stored point that rejected the last too-close point.
   Pose sensor_ = Pose::Identity();
   StreamingStats stats_;
   // scratch
@@ -256,7 +267,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   grid_.insert(p, v);
   ++stats_.stored;
 
-  gather(p, settings_.mesh_radius_m, v, ball_);
+  gather(p, first_ball_radius(), v, ball_);
   const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
   std::vector<VertexId>& retry = retry_;
   retry.clear();
@@ -275,7 +286,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   }
   // Pending neighbours got a new point: retry them, each with its own ball.
   for (VertexId q : retry_) {
-    gather(pos_[q], settings_.mesh_radius_m, q, ball_);
+    gather(pos_[q], first_ball_radius(), q, ball_);
     if (estimate(q)) triangulate(q);
   }
   return result;
@@ -300,11 +311,25 @@ inline bool StreamingMesh::estimate(VertexId v) {
 }
 
 inline void StreamingMesh::triangulate(VertexId v) {
-  ball2_.clear();
-  for (const auto& e : ball_)
-    if (has_normal(e.second)) ball2_.push_back(e);
-  const std::size_t k = std::min<std::size_t>(ball2_.size(), 2 * static_cast<std::size_t>(tri_settings_.max_fan_neighbours));
-  std::partial_sort(ball2_.begin(), ball2_.begin() + static_cast<std::ptrdiff_t>(k), ball2_.end());
+  // The 2·max_fan_neighbours nearest meshed points of the R_m ball. ball_ holds the first ball (the R_m ball's points
+  // within min(R_n, R_m), in the same order); if it has fewer meshed points than needed, the R_m ball is gathered.
+  const std::size_t k_max = 2 * static_cast<std::size_t>(tri_settings_.max_fan_neighbours);
+  const double rm2 = settings_.mesh_radius_m * settings_.mesh_radius_m;
+  auto select = [&] {
+    ball2_.clear();
+    for (const auto& e : ball_)
+      if (e.first <= rm2 && has_normal(e.second)) ball2_.push_back(e);
+  };
+  select();
+  if (ball2_.size() < k_max && settings_.mesh_radius_m > settings_.normal_radius_m) {
+    gather(pos_[v], settings_.mesh_radius_m, v, ball_);
+    select();
+  }
+  const std::size_t k = std::min(ball2_.size(), k_max);
+  // The k nearest, sorted by (squared distance, id): a total order, so nth_element + sort equals partial_sort.
+  const auto kth = ball2_.begin() + static_cast<std::ptrdiff_t>(k);
+  if (kth != ball2_.end()) std::nth_element(ball2_.begin(), kth, ball2_.end());
+  std::sort(ball2_.begin(), kth);
   meshed_nb_.clear();
   for (std::size_t i = 0; i < k; ++i) meshed_nb_.push_back(ball2_[i].second);
   tri_.insert(v, meshed_nb_, tri_settings_, scan_);

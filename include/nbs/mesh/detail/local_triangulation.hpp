@@ -38,9 +38,14 @@ class LocalTriangulator {
     double angle;
     P2 p2;
   };
+  struct Vert2 {
+    VertexId id;
+    P2 p2;  ///< projection into v's tangent plane, in units of R_m.
+  };
   struct Edge2 {
     VertexId a, b;
-    P2 pa, pb;
+    std::uint32_t ia, ib;  ///< indices of a and b in verts_.
+    int side_o;            ///< side class of orient(pa, pb, o): where v's projection o lies relative to the edge.
   };
 
 public:
@@ -121,19 +126,29 @@ private:
       for (std::uint32_t f : fs_.faces_of(q)) faces_.push_back(f);
     std::sort(faces_.begin(), faces_.end());
     faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
+    // Distinct corners with their projections, computed once for split_containing_face() and fan().
+    next_generation();
+    verts_.clear();
+    corner_.clear();
+    for (std::uint32_t f : faces_)
+      for (VertexId q : fs_.face(f)) corner_.push_back(marked(q) ? slot_[q] : vert_index(q, project(q)));
   }
 
   /// Case "inside": v projects into a compatible local face → split it. Returns true if it did.
   bool split_containing_face() {
     const P2 o(0.0, 0.0);
-    for (std::uint32_t f : faces_) {
+    // The per-face tests only reject, so the cheap 2D ones go first; the first face passing all is split.
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      const std::uint32_t f = faces_[i];
       const auto [a, b, c] = fs_.face(f);
-      if (!normal_agrees(a, b, c)) continue;
-      const P2 pa = project(a), pb = project(b), pc = project(c);
+      const P2& pa = verts_[corner_[3 * i]].p2;
+      const P2& pb = verts_[corner_[3 * i + 1]].p2;
+      const P2& pc = verts_[corner_[3 * i + 2]].p2;
       const double area = orient(pa, pb, pc);
       if (area <= kEps) continue;
       const std::array<double, 3> bary{orient(pb, pc, o) / area, orient(pc, pa, o) / area, orient(pa, pb, o) / area};
       if (*std::min_element(bary.begin(), bary.end()) < 0.0) continue;
+      if (!normal_agrees(a, b, c)) continue;
       const Vec3 fn = face_normal(a, b, c).normalized();
       if (std::abs(fn.dot(pos_[v_] - pos_[a])) > 0.25 * s_.radius_m) continue;
       // v on (or very near) an edge: bary of the opposite corner ≈ 0.
@@ -160,25 +175,60 @@ private:
     return false;
   }
 
+  /// Index of vertex q in verts_ (the distinct edge ends of the fan patch), adding it with projection `p2` if new.
+  std::uint32_t vert_index(VertexId q, const P2& p2) {
+    if (!marked(q)) {
+      set_mark(q, static_cast<std::uint32_t>(verts_.size()));
+      verts_.push_back({q, p2});
+    }
+    return slot_[q];
+  }
+  /// Marks q in the current generation with `value`.
+  void set_mark(VertexId q, std::uint32_t value) {
+    if (mark_.size() <= q) {
+      mark_.resize(pos_.size() > q ? pos_.size() : std::size_t{q} + 1, 0);
+      slot_.resize(mark_.size(), 0);
+    }
+    mark_[q] = gen_;
+    slot_[q] = value;
+  }
+  [[nodiscard]] bool marked(VertexId q) const { return q < mark_.size() && mark_[q] == gen_; }
+  /// Starts a new generation of the vertex marks (mark_ == gen_ means "set in this generation").
+  void next_generation() {
+    if (++gen_ == 0) {  // wrapped: forget every old mark
+      std::fill(mark_.begin(), mark_.end(), 0u);
+      gen_ = 1;
+    }
+  }
+
   /// Case "outside": fan of visible neighbours.
+  /// The patch's directed edges (once per face side) are kept as indices into verts_, the distinct edge ends with
+  /// their projections, so an orientation test of a segment against every patch vertex is computed once per vertex
+  /// and shared by the edges meeting there; every test is the same floating-point expression as the plain
+  /// segment-crossing test `cross()`, so the result does not depend on this bookkeeping.
   void fan() {
     const P2 o(0.0, 0.0);
-    edges_.clear();  // local edges (2D) of the collected faces, once per face side
-    for (std::uint32_t f : faces_) {
-      const auto& t = fs_.face(f);
-      const std::array<P2, 3> pt{project(t[0]), project(t[1]), project(t[2])};
-      for (int k = 0; k < 3; ++k) edges_.push_back({t[k], t[(k + 1) % 3], pt[k], pt[(k + 1) % 3]});
+    edges_.clear();  // local edges (2D) of the collected faces, once per face side; verts_ from collect_local_faces
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      const auto& t = fs_.face(faces_[i]);
+      for (int k = 0; k < 3; ++k)
+        edges_.push_back({t[k], t[(k + 1) % 3], corner_[3 * i + k], corner_[3 * i + (k + 1) % 3], 0});
     }
+    for (auto& e : edges_) e.side_o = side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, o));
     local_p2_.clear();
     for (VertexId q : local_) local_p2_.push_back(project(q));
     vis_.clear();
     for (std::size_t i = 0; i < local_.size(); ++i) {
       const VertexId q = local_[i];
       const P2& pq = local_p2_[i];
+      side_.resize(verts_.size());
+      for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(o, pq, verts_[j].p2));
       bool blocked = false;
       for (const auto& e : edges_) {
-        if (e.a == q || e.b == q) continue;
-        if (cross(o, pq, e.pa, e.pb)) {
+        // cross(o, pq, pa, pb): d1 = side_[ia], d2 = side_[ib], d3 = side_o, d4 = orient(pa, pb, pq). An edge at q
+        // has orient(o, pq, pq) = 0 exactly at that end, so it never counts (the old explicit skip).
+        if (side_[e.ia] * side_[e.ib] < 0 &&
+            e.side_o * side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, pq)) < 0) {
           blocked = true;
           break;
         }
@@ -214,6 +264,12 @@ private:
     }
   }
 
+  /// +1 / −1 when an orientation value is beyond ±kEps, else 0. Two values straddle strictly (the test of `cross()`)
+  /// exactly when the product of their classes is negative.
+  [[nodiscard]] static int side_class(double d) { return d > kEps ? 1 : (d < -kEps ? -1 : 0); }
+
+  /// Adds fan triangle (v, p, q) unless it crosses a patch edge, contains a local vertex or patch vertex, reuses a
+  /// directed edge, disagrees with v's normal or is a sliver. All tests only reject, so their order is free.
   void try_fan_triangle(const FanCandidate& cp, const FanCandidate& cq) {
     const P2 o(0.0, 0.0);
     const VertexId p = cp.id, q = cq.id;
@@ -225,24 +281,45 @@ private:
         fs_.face_with(q, v_) != FaceStore::kNoFace)
       return;
     if (!normal_agrees(v_, p, q) || min_angle(v_, p, q) < s_.min_angle_rad) return;
+    side_.resize(verts_.size());
+    for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(pp, pq, verts_[j].p2));
     for (const auto& e : edges_) {
-      if (e.a == p || e.b == p || e.a == q || e.b == q) continue;
-      if (cross(pp, pq, e.pa, e.pb)) return;
+      // cross(pp, pq, pa, pb); an edge at p or q has side class 0 there (exact zero), so it never counts.
+      const P2& pa = verts_[e.ia].p2;
+      const P2& pb = verts_[e.ib].p2;
+      if (side_[e.ia] * side_[e.ib] < 0 && side_class(orient(pa, pb, pp)) * side_class(orient(pa, pb, pq)) < 0) return;
     }
     auto inside = [&](const P2& x) {
       return orient(o, pp, x) > kEps && orient(pp, pq, x) > kEps && orient(pq, o, x) > kEps;
     };
     for (std::size_t i = 0; i < local_.size(); ++i)
       if (local_[i] != p && local_[i] != q && inside(local_p2_[i])) return;
-    for (const auto& e : edges_)
-      if (e.a != p && e.a != q && e.a != v_ && inside(e.pa)) return;
+    // Every patch vertex starts a patch edge; v's edges are excluded as in the edge list form.
+    for (std::size_t j = 0; j < verts_.size(); ++j) {
+      const VertexId a = verts_[j].id;
+      if (a != p && a != q && a != v_ && side_[j] > 0 && orient(o, pp, verts_[j].p2) > kEps &&
+          orient(pq, o, verts_[j].p2) > kEps)
+        return;
+    }
     new_faces_.push_back(fs_.add(v_, p, q, scan_));
-    edges_.push_back({v_, p, o, pp});
-    edges_.push_back({p, q, pp, pq});
-    edges_.push_back({q, v_, pq, o});
+    const std::uint32_t iv = vert_index(v_, o), ip = vert_index(p, pp), iq = vert_index(q, pq);
+    const std::array<std::uint32_t, 3> ix{iv, ip, iq};
+    const std::array<VertexId, 3> id{v_, p, q};
+    for (int k = 0; k < 3; ++k) {
+      Edge2 e{id[k], id[(k + 1) % 3], ix[k], ix[(k + 1) % 3], 0};
+      e.side_o = side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, o));
+      edges_.push_back(e);
+    }
     ++touched_;
   }
 
+  /// next_border(x), memoised in slot_ for the current generation (a new one starts whenever faces change).
+  [[nodiscard]] VertexId next_border_cached(VertexId x) {
+    if (marked(x)) return slot_[x];
+    const VertexId y = next_border(x);
+    set_mark(x, y);
+    return y;
+  }
   /// Border edge x→y (its face on the left, none on the right) leaving x, first found; kNoVertex if none.
   [[nodiscard]] VertexId next_border(VertexId x) const {
     for (std::uint32_t f : fs_.faces_of(x)) {
@@ -264,6 +341,7 @@ private:
   void close_gaps() {
     std::vector<VertexId>& cand = local_;
     cand.push_back(v_);
+    next_generation();
     for (std::size_t i = 0; i < cand.size(); ++i)
       for (int guard = 0; guard < 4 && close_gap_from(cand[i]); ++guard) {
       }
@@ -275,7 +353,7 @@ private:
     chain_p2_.assign(1, project(x));
     double length = 0.0;
     for (int k = 1; k <= s_.max_gap_edges; ++k) {
-      const VertexId y = next_border(chain_.back());
+      const VertexId y = next_border_cached(chain_.back());
       if (y == kNoVertex) return false;
       if (y == x) return k >= 3 && fill_polygon(true);
       if (std::find(chain_.begin(), chain_.end(), y) != chain_.end()) return false;
@@ -367,6 +445,7 @@ private:
       fs_.add(t[0], t[1], t[2], scan_);
       ++touched_;
     }
+    next_generation();  // the border changed: forget the memoised next_border() values
     return true;
   }
   /// A fill face of a closed loop only has to be counter-clockwise in v's tangent plane (checked by the caller): the
@@ -422,6 +501,13 @@ private:
   std::vector<P2> local_p2_;
   std::vector<std::uint32_t> faces_;
   std::vector<Edge2> edges_;
+  std::vector<Vert2> verts_;
+  std::vector<int> side_;                     ///< side_class of one orientation test per verts_ entry.
+  std::vector<std::uint32_t> corner_;        ///< verts_ index of corner k of faces_[i] at 3 i + k.
+  /// Per vertex: generation of its mark and the marked value — the verts_ index (collect_local_faces, fan) or the
+  /// memoised next_border() (close_gaps). A vertex is marked iff mark_[v] == gen_.
+  std::vector<std::uint32_t> mark_, slot_;
+  std::uint32_t gen_ = 0;
   std::vector<FanCandidate> vis_;
   std::vector<std::uint32_t> new_faces_;
   std::vector<VertexId> chain_;

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
 /// Spatial hash grid of point ids for ball queries. Cells are cubes of edge `cell_m`; the table is open-addressing
-/// (linear probing) keyed by packed integer cell coordinates. With the density limitation (no two points closer
-/// than R_r) a cell holds at most O((cell_m / R_r)^3) points, so a ball query costs O(1) independent of the number
-/// of stored points. Not thread-safe.
+/// (linear probing) keyed by packed integer cell coordinates, a slot holding the key and the index of the cell's id
+/// list. With the density limitation (no two points closer than R_r) a cell holds at most O((cell_m / R_r)^3)
+/// points, so a ball query costs O(1) independent of the number of stored points. Not thread-safe.
 
 #include <cmath>
 #include <cstdint>
@@ -22,42 +22,86 @@ public:
   /// Adds point `id` at `p`.
   void insert(const Vec3& p, std::uint32_t id) {
     const std::uint64_t key = key_of(cell_of(p));
-    if (2 * (used_ + 1) > keys_.size()) rehash(keys_.size() * 2);
-    std::size_t slot = find_slot(key);
-    if (keys_[slot] == kEmpty) {
-      keys_[slot] = key;
-      bucket_of_slot_[slot] = static_cast<std::uint32_t>(buckets_.size());
+    if (2 * (used_ + 1) > slots_.size()) rehash(slots_.size() * 2);
+    Slot& slot = slots_[find_slot(key)];
+    if (slot.key == kEmpty) {
+      slot.key = key;
+      slot.bucket = static_cast<std::uint32_t>(buckets_.size());
       buckets_.emplace_back();
       ++used_;
     }
-    buckets_[bucket_of_slot_[slot]].push_back(id);
+    buckets_[slot.bucket].push_back(id);
   }
 
-  /// Calls `f(id)` for every stored id whose cell intersects the axis-aligned cube of half-size `r` around `p`.
-  /// The caller filters by exact distance.
+  /// Calls `f(id)` for every stored id whose cell intersects the ball of radius `r` around `p` (cells are visited in
+  /// x, y, z order, ids of a cell in insertion order). The caller filters by exact distance.
   template <class F>
   void for_each_candidate(const Vec3& p, double r, F&& f) const {
+    const Eigen::Vector3i lo = cell_of(p - Vec3::Constant(r));
+    const Eigen::Vector3i hi = cell_of(p + Vec3::Constant(r));
+    // A cell is skipped when its box (grown by a relative 1e-6 against rounding in cell_of) is farther than r.
+    const double r2 = r * r, grow = 1e-6 * cell_m_;
+    auto gap = [&](int c, double v) {
+      const double lo_c = c * cell_m_ - grow, hi_c = (c + 1) * cell_m_ + grow;
+      return v < lo_c ? lo_c - v : (v > hi_c ? v - hi_c : 0.0);
+    };
+    for (int x = lo.x(); x <= hi.x(); ++x) {
+      const double gx = gap(x, p.x());
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        const double gxy = gx * gx + square(gap(y, p.y()));
+        if (gxy > r2) continue;
+        for (int z = lo.z(); z <= hi.z(); ++z) {
+          if (gxy + square(gap(z, p.z())) > r2) continue;
+          const Slot& slot = slots_[find_slot(key_of(Eigen::Vector3i(x, y, z)))];
+          if (slot.key == kEmpty) continue;
+          for (std::uint32_t id : buckets_[slot.bucket]) f(id);
+        }
+      }
+    }
+  }
+
+  /// True if `pred(id)` holds for some stored id whose cell intersects the cube of half-size `r` around `p`. The
+  /// cell of `p` is probed first and the search stops at the first hit, so a point inside a dense region costs one
+  /// probe.
+  template <class Pred>
+  [[nodiscard]] bool any_candidate(const Vec3& p, double r, Pred&& pred) const {
+    const Eigen::Vector3i c = cell_of(p);
+    if (any_in_cell(c, pred)) return true;
     const Eigen::Vector3i lo = cell_of(p - Vec3::Constant(r));
     const Eigen::Vector3i hi = cell_of(p + Vec3::Constant(r));
     for (int x = lo.x(); x <= hi.x(); ++x)
       for (int y = lo.y(); y <= hi.y(); ++y)
         for (int z = lo.z(); z <= hi.z(); ++z) {
-          const std::size_t slot = find_slot(key_of(Eigen::Vector3i(x, y, z)));
-          if (keys_[slot] == kEmpty) continue;
-          for (std::uint32_t id : buckets_[bucket_of_slot_[slot]]) f(id);
+          const Eigen::Vector3i k(x, y, z);
+          if (k != c && any_in_cell(k, pred)) return true;
         }
+    return false;
   }
 
   /// Heap bytes used by the table and the buckets (approximate: capacity-based).
   [[nodiscard]] std::size_t memory_bytes() const {
-    std::size_t b = keys_.capacity() * sizeof(std::uint64_t) + bucket_of_slot_.capacity() * sizeof(std::uint32_t) +
-                    buckets_.capacity() * sizeof(std::vector<std::uint32_t>);
+    std::size_t b = slots_.capacity() * sizeof(Slot) + buckets_.capacity() * sizeof(std::vector<std::uint32_t>);
     for (const auto& v : buckets_) b += v.capacity() * sizeof(std::uint32_t);
     return b;
   }
 
 private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  struct Slot {
+    std::uint64_t key = kEmpty;
+    std::uint32_t bucket = 0;
+  };
+
+  [[nodiscard]] static double square(double v) { return v * v; }
+
+  template <class Pred>
+  [[nodiscard]] bool any_in_cell(const Eigen::Vector3i& c, Pred& pred) const {
+    const Slot& slot = slots_[find_slot(key_of(c))];
+    if (slot.key == kEmpty) return false;
+    for (std::uint32_t id : buckets_[slot.bucket])
+      if (pred(id)) return true;
+    return false;
+  }
 
   [[nodiscard]] Eigen::Vector3i cell_of(const Vec3& p) const {
     // Coordinates are clamped to ±2^20 cells (±3 km at 3 mm): far beyond any workspace, keeps the key packing valid.
@@ -74,31 +118,27 @@ private:
            ((static_cast<std::uint64_t>(c.y() + 1048576) & mask) << 21) |
            (static_cast<std::uint64_t>(c.z() + 1048576) & mask);
   }
+  /// Linear probing from the splitmix64 finaliser of the key (every key bit reaches the low bits used as slot).
   [[nodiscard]] std::size_t find_slot(std::uint64_t key) const {
-    std::uint64_t h = key * 0x9E3779B97F4A7C15ull;
-    h ^= h >> 29;
-    const std::size_t m = keys_.size() - 1;
+    std::uint64_t h = key;
+    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+    h ^= h >> 31;
+    const std::size_t m = slots_.size() - 1;
     std::size_t s = static_cast<std::size_t>(h) & m;
-    while (keys_[s] != kEmpty && keys_[s] != key) s = (s + 1) & m;
+    while (slots_[s].key != kEmpty && slots_[s].key != key) s = (s + 1) & m;
     return s;
   }
   void rehash(std::size_t capacity) {
-    std::vector<std::uint64_t> old_keys(capacity, kEmpty);
-    std::vector<std::uint32_t> old_bucket(capacity, 0);
-    old_keys.swap(keys_);
-    old_bucket.swap(bucket_of_slot_);
-    for (std::size_t i = 0; i < old_keys.size(); ++i) {
-      if (old_keys[i] == kEmpty) continue;
-      const std::size_t s = find_slot(old_keys[i]);
-      keys_[s] = old_keys[i];
-      bucket_of_slot_[s] = old_bucket[i];
-    }
+    std::vector<Slot> old(capacity);
+    old.swap(slots_);
+    for (const Slot& o : old)
+      if (o.key != kEmpty) slots_[find_slot(o.key)] = o;
   }
 
   double cell_m_;
   double inv_cell_;
-  std::vector<std::uint64_t> keys_;
-  std::vector<std::uint32_t> bucket_of_slot_;
+  std::vector<Slot> slots_;
   std::vector<std::vector<std::uint32_t>> buckets_;
   std::size_t used_ = 0;
 };
