@@ -321,12 +321,20 @@ private:
     return y;
   }
   /// Border edge x→y (its face on the left, none on the right) leaving x, first found; kNoVertex if none.
+  /// A face holding y→x also holds x, so "no face on the right" is checked among x's own faces: y is not the
+  /// predecessor of x in any of them.
   [[nodiscard]] VertexId next_border(VertexId x) const {
-    for (std::uint32_t f : fs_.faces_of(x)) {
+    const auto& fx = fs_.faces_of(x);
+    pred_.clear();
+    succ_.clear();
+    for (std::uint32_t f : fx) {
       const auto& t = fs_.face(f);
-      for (int k = 0; k < 3; ++k)
-        if (t[k] == x && fs_.face_with(t[(k + 1) % 3], x) == FaceStore::kNoFace) return t[(k + 1) % 3];
+      const int k = t[0] == x ? 0 : (t[1] == x ? 1 : 2);
+      succ_.push_back(t[(k + 1) % 3]);
+      pred_.push_back(t[(k + 2) % 3]);
     }
+    for (VertexId y : succ_)
+      if (std::find(pred_.begin(), pred_.end(), y) == pred_.end()) return y;
     return kNoVertex;
   }
   /// Closes the gaps the fan left: Bodenmüller joins every pair of vertices within R_m, so a border loop or a border
@@ -511,6 +519,7 @@ private:
   std::vector<FanCandidate> vis_;
   std::vector<std::uint32_t> new_faces_;
   std::vector<VertexId> chain_;
+  mutable std::vector<VertexId> pred_, succ_;  ///< next_border() scratch: x's neighbours before / after it per face.
   std::vector<P2> chain_p2_;
   std::vector<std::uint32_t> ring_;
   std::vector<std::array<VertexId, 3>> ears_;
