@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <string_view>
 #include <functional>
@@ -148,11 +149,38 @@ void BM_InsertOctomap(benchmark::State& state) {
 BENCHMARK(BM_InsertThesis)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InsertOctomap)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
 
+// FNV-1a over (key, state) of every observed voxel in key order: identical spaces give identical checksums, so an
+// optimisation of the update can be checked against the previous build on the bunny scans.
+std::uint64_t state_checksum(const nbs::ProbabilisticVoxelSpace<>& s) {
+  std::vector<std::pair<std::uint64_t, nbs::ThesisState>> v;
+  s.for_each([&](const nbs::VoxelKey& k, const nbs::ThesisState& st) { v.push_back({k.pack(), st}); });
+  std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](std::uint64_t x) {
+    for (int i = 0; i < 8; ++i, x >>= 8) h = (h ^ (x & 0xFF)) * 1099511628211ull;
+  };
+  for (const auto& [k, st] : v) {
+    mix(k);
+    mix(static_cast<std::uint16_t>(st.free) | std::uint64_t{static_cast<std::uint16_t>(st.surf)} << 16 |
+        std::uint64_t{st.spec} << 32 | std::uint64_t{st.direction} << 40);
+  }
+  return h;
+}
+
 // ---- Headlines ------------------------------------------------------------------------------------------------------
 void headlines() {
   const auto& f = fixture();
   const int reps = nbs::bench::quick_mode() ? 2 : 5;
   std::printf("space: %zu points in %zu scans\n", f.points, f.scans.size());
+  for (const auto& [mm, n] : std::vector<std::pair<int, int>>{{5, 6}, {2, 3}, {1, 1}}) {
+    nbs::ProbabilisticVoxelSpace<> s(mm * 1e-3, f.box, f.thesis_model());
+    insert_nbs(s, n);
+    const auto& t = s.totals();
+    std::printf("space: @%dmm after %d scans: %zu voxels, checksum %016llx; per ray %.1f voxel visits, %.2f updates\n",
+                mm, n, nbs::observed_count(s.backend()), static_cast<unsigned long long>(state_checksum(s)),
+                double(t.voxel_updates + t.voxels_same_scan + t.voxels_similar_beam) / double(t.integrated),
+                double(t.voxel_updates) / double(t.integrated));
+  }
 
   for (const auto& [mm, n] : std::vector<std::pair<int, int>>{{5, 6}, {2, 3}, {1, 1}}) {
     const double res = mm * 1e-3;

@@ -135,3 +135,41 @@ TEST_CASE("traverse_segment works in world units and rejects bad input", "[space
   REQUIRE_THROWS_AS(nbs::traverse_segment(g, Vec3(0, 0, 0), Vec3(0, 0, 1e9), [](const VoxelKey&) {}),
                     nbs::InvalidArgument);
 }
+
+namespace {
+// Axis sequence of SegmentWalker::step vs its CommonDenominatorStepper on the same segment; returns whether the
+// stepper was available.
+bool same_steps(const Vec3& a, const Vec3& b) {
+  const nbs::detail::SegmentSetup q(a, b);
+  auto fast = nbs::detail::CommonDenominatorStepper::make(q);
+  if (!fast) return false;
+  SegmentWalker w(q);
+  INFO("segment " << a.transpose() << " -> " << b.transpose());
+  while (w.remaining() > 0) REQUIRE(fast->step() == w.step());
+  return true;
+}
+}  // namespace
+
+TEST_CASE("common-denominator stepper takes the same steps as SegmentWalker, ties included", "[space][dda]") {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-30.0, 30.0);
+  std::uniform_int_distribution<int> q(-8 * 1024, 8 * 1024), g(-6, 6);
+  for (int i = 0; i < 20000; ++i) REQUIRE(same_steps(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))));
+  // End points on the 1/1024 lattice and on voxel corners: many exact ties between axes and at the end.
+  const auto vec = [&](auto& d, double scale) {
+    const double x = d(rng) * scale, y = d(rng) * scale, z = d(rng) * scale;
+    return Vec3(x, y, z);
+  };
+  const auto lattice = [&] { return vec(q, 1.0 / 1024.0); };
+  const auto corner = [&] { return vec(g, 1.0); };
+  for (int i = 0; i < 20000; ++i) REQUIRE(same_steps(lattice(), lattice()));
+  for (int i = 0; i < 5000; ++i) REQUIRE(same_steps(corner(), corner()));
+  for (int i = 0; i < 5000; ++i) REQUIRE(same_steps(corner(), corner() + Vec3(0.0, 0.0, 0.5)));
+  REQUIRE(same_steps(Vec3(0.5, 0.5, 0.5), Vec3(0.5, 0.5, 0.5)));
+  REQUIRE(same_steps(Vec3(2.0, 0.5, 0.5), Vec3(-2.0, 0.5, 0.5)));
+  REQUIRE(same_steps(Vec3(0.0, 0.0, 0.0), Vec3(-5.0, 5.0, -5.0)));
+  // Up to 1024 voxels per axis the products stay below 2^61; longer segments fall back to SegmentWalker.
+  REQUIRE(same_steps(Vec3(-0.001, 0.3, -0.7), Vec3(1023.99, 1023.7, -1024.6)));
+  REQUIRE(same_steps(Vec3(0, 0, 0), Vec3(1000.5, 0.5, 0.5)));
+  REQUIRE_FALSE(nbs::detail::CommonDenominatorStepper::make({Vec3(0, 0, 0), Vec3(1024.5, 2.5, 1.5)}).has_value());
+}

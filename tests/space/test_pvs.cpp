@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
@@ -15,8 +16,9 @@ using nbs::VoxelKey;
 using LogOddsSpace = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
 const nbs::Aabb kBox{Vec3::Constant(-0.0999), Vec3::Constant(0.0999)};
 // Forces the generic (traits) path of ProbabilisticVoxelSpace: any backend that is not HashedBlockBackend.
+template <class StateT = nbs::ThesisState>
 struct Wrapped {
-  using State = nbs::ThesisState;
+  using State = StateT;
   nbs::HashedBlockBackend<State> b;
   explicit Wrapped(double r) : b(r) {}
   double resolution_m() const { return b.resolution_m(); }
@@ -113,7 +115,7 @@ TEST_CASE("native and generic paths agree on a synthetic LSP scan", "[space][pvs
   const nbs::test::SphereLspSetup setup{.profiles = 20, .rays_per_profile = 60, .noise_sigma_m = 0.0005};
   const nbs::Aabb box{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};
   nbs::ProbabilisticVoxelSpace<> native(0.004, box);
-  nbs::ProbabilisticVoxelSpace<Wrapped, nbs::ThesisModel> generic(0.004, box);
+  nbs::ProbabilisticVoxelSpace<Wrapped<>, nbs::ThesisModel> generic(0.004, box);
   for (int i = 0; i < 4; ++i) {
     const auto scan = nbs::test::sphere_lsp_scan(setup, nbs::test::ring_position(setup, i, 4, 0.3), 11 + i);
     const auto a = native.integrate(scan), b = generic.integrate(scan);
@@ -128,4 +130,61 @@ TEST_CASE("native and generic paths agree on a synthetic LSP scan", "[space][pvs
     occupied += native.model().occupied(s) ? 1 : 0;
   });
   REQUIRE(occupied > 100);
+}
+
+namespace {
+// Seeded random scans: `profiles` profiles, each from one origin at 0.2–0.4 m from the box centre, with `rays` beams
+// to points spread over the box (a few outside it, counted as rejected), origins and end points on float values.
+nbs::Scan random_scan(std::mt19937_64& rng, int profiles, int rays) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), r(0.2, 0.4);
+  nbs::Scan s;
+  for (int p = 0; p < profiles; ++p) {
+    nbs::Pose pose = nbs::Pose::Identity();
+    pose.translation() = (Vec3(0.0, 0.0, 0.1) + r(rng) * Vec3(u(rng), u(rng), u(rng)).normalized()).cast<float>().cast<double>();
+    s.profile_poses.push_back(pose);
+    const Vec3 aim(0.09 * u(rng), 0.09 * u(rng), 0.1 + 0.09 * u(rng));
+    for (int i = 0; i < rays; ++i)  // a cluster around `aim`, so beams revisit voxels within the scan
+      s.add_point((aim + 0.02 * Vec3(u(rng), u(rng), u(rng))).cast<float>().cast<double>(), static_cast<std::uint32_t>(p));
+  }
+  s.rays_cast = s.points.size();
+  return s;
+}
+
+// Integrates the same seeded random scans into the native space (block walk, common-denominator DDA) and the generic
+// one (SegmentWalker, per-voxel backend access, hash set of touched voxels): every statistic and voxel state agrees.
+template <class Model>
+void check_native_equals_generic(double resolution_m, const Model& model, int scans, int profiles, int rays) {
+  using State = typename Model::State;
+  const nbs::Aabb box{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};
+  nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<State>, Model> native(resolution_m, box, model);
+  nbs::ProbabilisticVoxelSpace<Wrapped<State>, Model> generic(resolution_m, box, model);
+  std::mt19937_64 rng(static_cast<std::uint64_t>(resolution_m * 1e7) + static_cast<std::uint64_t>(scans));
+  for (int k = 0; k < scans; ++k) {
+    const nbs::Scan scan = random_scan(rng, profiles, rays);
+    const auto a = native.integrate(scan), b = generic.integrate(scan);
+    INFO("resolution " << resolution_m << ", scan " << k);
+    REQUIRE(a.integrated == b.integrated);
+    REQUIRE(a.rejected_outside_bounds == b.rejected_outside_bounds);
+    REQUIRE(a.voxel_updates == b.voxel_updates);
+    REQUIRE(a.voxels_same_scan == b.voxels_same_scan);
+    REQUIRE(a.voxels_similar_beam == b.voxels_similar_beam);
+    REQUIRE(a.voxels_same_scan > 0);  // the scans do revisit voxels within a scan
+  }
+  REQUIRE(nbs::observed_count(native.backend()) == nbs::observed_count(generic.backend()));
+  std::size_t mismatches = 0;
+  native.for_each([&](const VoxelKey& k, const State& s) { mismatches += generic.state(k) == s ? 0 : 1; });
+  REQUIRE(mismatches == 0);
+}
+}  // namespace
+
+TEST_CASE("native update walk equals the straightforward per-voxel walk on seeded random scans", "[space][pvs]") {
+  nbs::ThesisModel::Setting noisy;
+  noisy.sigma_m = [](double d) { return 0.002 * d * d + 0.0002; };
+  for (const double res : {0.01, 0.004, 0.0013}) {
+    check_native_equals_generic(res, nbs::ThesisModel{}, 3, 12, 80);
+    check_native_equals_generic(res, nbs::ThesisModel(noisy), 3, 12, 80);
+    check_native_equals_generic(res, nbs::LogOddsModel{}, 3, 12, 80);
+  }
+  // 0.1 mm voxels: free paths of ≥ 1024 voxels along an axis take SegmentWalker's steps (no common-denominator stepper).
+  check_native_equals_generic(0.0001, nbs::ThesisModel{}, 1, 2, 6);
 }

@@ -37,3 +37,21 @@ TEST_CASE("VoxelGrid maps coordinates with floor(x / l_v)", "[space][key]") {
   REQUIRE_THROWS_AS(nbs::VoxelGrid(-1.0), nbs::InvalidArgument);
   REQUIRE_THROWS_AS(nbs::VoxelGrid(nan), nbs::InvalidArgument);
 }
+
+TEST_CASE("VoxelGrid::in_voxel(p, k) is key_of(p) == k", "[space][key]") {
+  const nbs::VoxelGrid g(0.003);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  std::uniform_int_distribution<int> q(-40, 40), dk(-1, 1);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int i = 0; i < 20000; ++i) {
+    // random points, and points exactly on voxel faces (multiples of l_v) where floor decides
+    const nbs::Vec3 p = i % 2 == 0 ? nbs::Vec3(u(rng), u(rng), u(rng)) : nbs::Vec3(q(rng), q(rng), q(rng)) * 0.003;
+    const VoxelKey k = *g.key_of(p);
+    REQUIRE(g.in_voxel(p, k));
+    const VoxelKey n{k.x + dk(rng), k.y + dk(rng), k.z + dk(rng)};
+    REQUIRE(g.in_voxel(p, n) == (n == k));
+  }
+  REQUIRE_FALSE(g.in_voxel(nbs::Vec3(nan, 0, 0), VoxelKey{0, 0, 0}));
+  REQUIRE_FALSE(g.in_voxel(nbs::Vec3(0, 0, 1e9), VoxelKey{0, 0, VoxelKey::kMaxIndex}));
+}

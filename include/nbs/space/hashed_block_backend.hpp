@@ -206,7 +206,7 @@ public:
   /// hash map; it is cleared by next_epoch() and by every flush, so the first access to a block in a scan always
   /// takes the slow path below. Throws FileError if a flushed block cannot be read back.
   [[nodiscard]] Block& block(std::uint64_t id) {
-    CacheEntry& c = cache_[(id * 0x9E3779B97F4A7C15ull) >> (64 - kCacheBits)];
+    CacheEntry& c = cache_[cache_slot(id)];
     if (c.id == id) return *c.block;
     Block* b = find_or_make(id);
     if (b->scan != epoch_) {
@@ -216,6 +216,30 @@ public:
     b->last_written = epoch_;
     c = {id, b};
     return *b;
+  }
+  /// True if every voxel of the key box with corners a and b (any order, at most 64 voxels, else false) was marked
+  /// updated in the current epoch (Block::touch after next_epoch()). Reads only: no block is allocated or reloaded.
+  [[nodiscard]] bool all_touched(const VoxelKey& a, const VoxelKey& b) const {
+    const VoxelKey lo{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+    const VoxelKey hi{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+    if ((std::int64_t{hi.x} - lo.x + 1) * (std::int64_t{hi.y} - lo.y + 1) * (std::int64_t{hi.z} - lo.z + 1) > 64)
+      return false;
+    std::uint64_t id = ~std::uint64_t{0};
+    const Block* blk = nullptr;
+    for (std::int32_t z = lo.z; z <= hi.z; ++z)
+      for (std::int32_t y = lo.y; y <= hi.y; ++y)
+        for (std::int32_t x = lo.x; x <= hi.x; ++x) {
+          const VoxelKey k{x, y, z};
+          if (block_id(k) != id) {
+            id = block_id(k);
+            const CacheEntry& c = cache_[cache_slot(id)];
+            blk = c.id == id ? c.block : find_resident_block(id);
+            if (blk == nullptr || blk->scan != epoch_) return false;
+          }
+          const int i = local_index(k);
+          if (((blk->touched[i >> 6] >> (i & 63)) & 1u) == 0) return false;
+        }
+    return true;
   }
   /// Marks voxel i of b observed and keeps the observed count.
   void note_observed(Block& b, int i) { observed_ += b.observe(i) ? 1u : 0u; }
@@ -468,6 +492,7 @@ private:
   }
 
   static constexpr int kCacheBits = 10;
+  [[nodiscard]] static std::size_t cache_slot(std::uint64_t id) { return (id * 0x9E3779B97F4A7C15ull) >> (64 - kCacheBits); }
   struct CacheEntry {
     std::uint64_t id = ~std::uint64_t{0};  // never a packed key (those use 63 bits)
     Block* block = nullptr;

@@ -264,6 +264,11 @@ private:
       ++st.voxels_same_scan;
       return;
     }
+    update_fresh(blk, i, st, apply);
+  }
+  // apply(State&) to voxel i of blk, whose touched bit the caller has just set; writes back if updated.
+  template <class Block, class Apply>
+  void update_fresh(Block& blk, int i, IntegrationStats& st, Apply&& apply) {
     State s = blk.get(i);
     count(apply(s), st, [&] {
       blk.put(i, s);
@@ -280,21 +285,23 @@ private:
     }
   }
 
-  // Walks a → b (world) with visit(State&, key, is_end) → VoxelUpdate, once per voxel per scan.
+  // Walks the quantised segment q (voxel units) with apply(State&, key, is_end) → VoxelUpdate, once per voxel per
+  // scan.
   template <class Apply>
-  void walk(const Vec3& a, const Vec3& b, bool include_end, IntegrationStats& st, Apply&& apply) {
-    const double inv = grid_.inverse_resolution();
+  void walk(const detail::SegmentSetup& q, bool include_end, IntegrationStats& st, Apply&& apply) {
     if constexpr (kNative) {
-      IntegrationStats local;  // counted here, not through `st`, so the counters stay in registers in the loop
-      detail::walk_blocks(backend_, a * inv, b * inv, include_end,
-                          [&](typename Backend::Block& blk, int i, const VoxelKey& k, bool is_end) {
-                            update_native(blk, i, local, [&](State& s) { return apply(s, k, is_end); });
-                          });
-      st.voxel_updates += local.voxel_updates;
-      st.voxels_same_scan += local.voxels_same_scan;
-      st.voxels_similar_beam += local.voxels_similar_beam;
+      // Only voxels not yet updated in this scan reach the callback; the others are counted as voxels_same_scan.
+      std::uint64_t fresh = 0;
+      const std::int64_t n = detail::walk_untouched(
+          backend_, q, include_end, [&](typename Backend::Block& blk, int i, const VoxelKey& block_key, bool is_end) {
+            ++fresh;
+            update_fresh(blk, i, st, [&](State& s) {
+              return apply(s, detail::voxel_key_in_block<backend_state_t<Backend>>(block_key, i), is_end);
+            });
+          });
+      st.voxels_same_scan += static_cast<std::uint64_t>(n) - fresh;
     } else {
-      detail::SegmentWalker w(a * inv, b * inv);
+      detail::SegmentWalker w(q);
       for (;;) {
         const bool last = w.remaining() == 0;
         if (last && !include_end) return;
@@ -312,35 +319,56 @@ private:
     const VoxelKey end_key = *grid_.key_of(b.end);
     if constexpr (kNative) {
       // The band lies inside the end voxel (which lies inside voxel_bounds()): no clipping, no walk.
-      if (grid_.key_of(a) == end_key && grid_.key_of(e) == end_key) {
+      if (grid_.in_voxel(a, end_key) && grid_.in_voxel(e, end_key)) {
         update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
                       [&](State& s) { return model_.update_band(s, b.beam, 0.0, true); });
         return;
       }
     }
-    double t0, t1;
-    if (!detail::clip_segment(a, e, voxel_bounds_, t0, t1)) return;  // cannot happen: b.end is inside
+    // Clipped band. With both ends inside, clip_segment would return exactly [0, 1] (quotients of monotonically
+    // rounded differences), so the divisions are skipped.
+    double t0 = 0.0, t1 = 1.0;
+    if (!(inside(a, voxel_bounds_) && inside(e, voxel_bounds_)) && !detail::clip_segment(a, e, voxel_bounds_, t0, t1))
+      return;  // cannot happen: b.end is inside
     const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds_), to = detail::point_in_box(a, e, t1, voxel_bounds_);
     const auto update = [&](State& s, const VoxelKey& k, bool) {
       const bool is_end = k == end_key;
       const double offset = is_end ? 0.0 : (grid_.center(k) - b.origin).dot(b.dir) - b.range_m;
       return model_.update_band(s, b.beam, offset, is_end);
     };
+    const double inv = grid_.inverse_resolution();
     if constexpr (kNative) {
-      if (grid_.key_of(from) == grid_.key_of(to)) {  // the band lies inside the end voxel: no walk needed
+      const auto from_key = grid_.key_of(from);  // both are inside voxel_bounds(), so from_key is set
+      if (from_key ? grid_.in_voxel(to, *from_key) : !grid_.key_of(to)) {  // the band lies in one voxel: no walk
         update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
                       [&](State& s) { return update(s, end_key, true); });
         return;
       }
+      const detail::SegmentSetup q(from * inv, to * inv);
+      // Every voxel of the key box spanned by the walk was updated in this scan (the usual case: ~100 beams end in
+      // each surface voxel per scan): the walk would only count them.
+      if (backend_.all_touched(q.key, q.end_key())) {
+        st.voxels_same_scan += static_cast<std::uint64_t>(q.steps()) + 1;
+        return;
+      }
+      walk(q, true, st, update);
+    } else {
+      walk(detail::SegmentSetup(from * inv, to * inv), true, st, update);
     }
-    walk(from, to, true, st, update);
   }
 
   void free_pass(const BeamRecord& b, IntegrationStats& st) {
     double t0, t1;
     if (!detail::clip_segment(b.origin, b.end, voxel_bounds_, t0, t1)) return;
     const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds_);
-    walk(from, b.end, false, st, [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
+    const double inv = grid_.inverse_resolution();
+    walk(detail::SegmentSetup(from * inv, b.end * inv), false, st,
+         [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
+  }
+
+  [[nodiscard]] static bool inside(const Vec3& p, const Aabb& box) {
+    return p.x() >= box.min.x() && p.x() <= box.max.x() && p.y() >= box.min.y() && p.y() <= box.max.y() &&
+           p.z() >= box.min.z() && p.z() <= box.max.z();
   }
 
   void check_ray(const Ray& r, std::size_t i) const {

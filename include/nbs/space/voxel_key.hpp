@@ -112,6 +112,18 @@ public:
     return k;
   }
 
+  /// True iff key_of(p) == k, for a valid k (false if p is not finite), without computing key_of(p): the same
+  /// product inverse·p_a is compared with k_a ≤ · < k_a + 1 (⇔ floor = k_a).
+  [[nodiscard]] bool in_voxel(const Vec3& p, const VoxelKey& k) const {
+    bool in = true;
+    for (int a = 0; a < 3; ++a) {
+      const double f = inverse_ * p[a];
+      const double lo = static_cast<double>(k[a]);
+      in = in && f >= lo && f < lo + 1.0;
+    }
+    return in;
+  }
+
   /// Centre of voxel `k` in world metres.
   [[nodiscard]] Vec3 center(const VoxelKey& k) const {
     return {(k.x + 0.5) * resolution_, (k.y + 0.5) * resolution_, (k.z + 0.5) * resolution_};

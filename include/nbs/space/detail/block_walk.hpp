@@ -2,6 +2,7 @@
 /// \file
 /// Segment walks over a HashedBlockBackend that look a block up only when the walk enters a new block.
 
+#include <cstdint>
 #include <memory>
 #include <type_traits>
 
@@ -16,49 +17,72 @@ inline constexpr bool is_hashed_block_backend_v = false;
 template <class S>
 inline constexpr bool is_hashed_block_backend_v<HashedBlockBackend<S>> = true;
 
-/// Writing walk from a to b (voxel units, valid keys): visit(Block&, index, key, is_end_voxel) for each voxel,
-/// allocating blocks as needed; the end voxel is skipped unless include_end. Inside a block the voxel index is
-/// stepped directly; the block is looked up only when the walk leaves it.
-template <class S, class Visit>
-void walk_blocks(HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, bool include_end, Visit&& visit) {
+/// Key of voxel `i` of the block with block key `bk` (= voxel key >> kEdgeBits per axis).
+template <class S>
+[[nodiscard]] VoxelKey voxel_key_in_block(const VoxelKey& bk, int i) {
   using BE = HashedBlockBackend<S>;
-  constexpr int kMask = BE::kEdge - 1;
-  SegmentWalker w(a, b);
-  auto* blk = &be.block(BE::block_id(w.key()));
-  int i = BE::local_index(w.key());
-  const int sx = w.sign(0), sy = w.sign(1), sz = w.sign(2);
-  int lx = w.key().x & kMask, ly = w.key().y & kMask, lz = w.key().z & kMask;  // position inside the block
-  for (;;) {
-    const bool last = w.remaining() == 0;
-    if (last && !include_end) return;
-    visit(*blk, i, w.key(), last);
-    if (last) return;
-    bool leaves;
-    switch (w.step()) {
+  constexpr int m = BE::kEdge - 1, e = BE::kEdgeBits;
+  return {(bk.x << e) | (i & m), (bk.y << e) | ((i >> e) & m), (bk.z << e) | (i >> (2 * e))};
+}
+
+/// The loop of walk_untouched over any stepper whose step() returns the axis crossed (SegmentWalker or its
+/// CommonDenominatorStepper): the voxel index is stepped inside a block; the block is looked up on leaving it.
+/// Stepper and signs are taken by value so that the loop keeps them in registers.
+template <class S, class Stepper, class Visit>
+void walk_untouched_steps(HashedBlockBackend<S>& be, Stepper st, const VoxelKey start, const int sx, const int sy,
+                          const int sz, std::int64_t steps, const bool include_end, Visit& visit) {
+  using BE = HashedBlockBackend<S>;
+  constexpr int e = BE::kEdgeBits, m = BE::kEdge - 1;
+  VoxelKey bk{start.x >> e, start.y >> e, start.z >> e};
+  auto* blk = &be.block(bk.pack());
+  int i = BE::local_index(start);
+  for (std::int64_t n = steps;; --n) {
+    if (n == 0) {
+      if (include_end && blk->touch(i)) visit(*blk, i, bk, true);
+      return;
+    }
+    if (blk->touch(i)) visit(*blk, i, bk, false);
+    const int axis = st.step();
+    int s, local;  // local: new position along `axis` inside the block; outside [0, m]: the walk left the block
+    switch (axis) {
       case 0:
-        lx += sx;
-        leaves = static_cast<unsigned>(lx) > static_cast<unsigned>(kMask);
-        i += sx;
+        s = sx;
+        local = (i & m) + s;
+        i += s;
         break;
       case 1:
-        ly += sy;
-        leaves = static_cast<unsigned>(ly) > static_cast<unsigned>(kMask);
-        i += sy * BE::kEdge;
+        s = sy;
+        local = ((i >> e) & m) + s;
+        i += s * BE::kEdge;
         break;
       default:
-        lz += sz;
-        leaves = static_cast<unsigned>(lz) > static_cast<unsigned>(kMask);
-        i += sz * BE::kEdge * BE::kEdge;
+        s = sz;
+        local = (i >> (2 * e)) + s;
+        i += s * BE::kEdge * BE::kEdge;
         break;
     }
-    if (leaves) {
-      blk = &be.block(BE::block_id(w.key()));
-      i = BE::local_index(w.key());
-      lx &= kMask;
-      ly &= kMask;
-      lz &= kMask;
+    if (static_cast<unsigned>(local) > static_cast<unsigned>(m)) {
+      bk[axis] += s;
+      i -= s * (BE::kEdge << (e * axis));  // wrap to the opposite face of the next block
+      blk = &be.block(bk.pack());
     }
   }
+}
+
+/// Writing walk of the quantised segment q (valid keys) that updates each voxel at most once per scan: for every voxel
+/// of the walk (the end voxel only if include_end) whose "updated in this scan" bit is clear, sets the bit and calls
+/// visit(Block&, index, block_key, is_end_voxel) (block_key: see voxel_key_in_block), allocating blocks as needed.
+/// Voxels already updated in this scan cost one DDA step and one bit test. Returns the number of voxels of the walk
+/// (visited or skipped).
+template <class S, class Visit>
+std::int64_t walk_untouched(HashedBlockBackend<S>& be, const SegmentSetup& q, bool include_end, Visit&& visit) {
+  const std::int64_t steps = q.steps();
+  if (const auto fast = CommonDenominatorStepper::make(q)) {
+    walk_untouched_steps(be, *fast, q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_end, visit);
+  } else {
+    walk_untouched_steps(be, SegmentWalker(q), q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_end, visit);
+  }
+  return steps + (include_end ? 1 : 0);
 }
 
 /// Read-only walk from a to b (voxel units, valid keys): visit(const Block* or nullptr, index, key) for each

@@ -12,16 +12,20 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "nbs/core/types.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 namespace nbs::detail {
 
-class SegmentWalker {
-public:
-  static constexpr int kFractionBits = 10;
-  static constexpr std::int64_t kOne = std::int64_t{1} << kFractionBits;
+/// Fixed-point precision of the DDA: end points are quantised to 1/2^kFractionBits voxel.
+inline constexpr int kDdaFractionBits = 10;
+
+/// A segment quantised for the DDA, per axis a: start key, direction sign, boundary crossings to the end voxel
+/// (remaining), A_a = |Δ_a| and N_a = distance from the start to the first boundary crossed (fixed point).
+struct SegmentSetup {
+  static constexpr std::int64_t kOne = std::int64_t{1} << kDdaFractionBits;
 
   /// Fixed-point coordinate of a voxel-unit value v (world · 1/l_v). Precondition: |v| ≤ 2^20.
   [[nodiscard]] static std::int64_t to_fixed(double v) {
@@ -29,34 +33,72 @@ public:
     const auto t = static_cast<std::int64_t>(x);
     return t - (static_cast<double>(t) > x ? 1 : 0);  // floor without a libm call
   }
-  /// Floor division of a fixed-point coordinate by one voxel.
+  /// Floor division of a fixed-point coordinate by one voxel (arithmetic shift = floor, also for f < 0).
   [[nodiscard]] static std::int32_t key_of_fixed(std::int64_t f) {
-    return static_cast<std::int32_t>(f >= 0 ? f / kOne : -((-f + kOne - 1) / kOne));
+    return static_cast<std::int32_t>(f >> kDdaFractionBits);
   }
 
   /// Segment from `start` to `end`, both in voxel units (world metres · 1/l_v), each coordinate in
   /// [−2^20, 2^20) — the caller checks (VoxelGrid::key_of succeeds for both).
-  SegmentWalker(const Vec3& start, const Vec3& end) {
+  SegmentSetup(const Vec3& start, const Vec3& end) {
     for (int a = 0; a < 3; ++a) {
       const std::int64_t s = to_fixed(start[a]);
       const std::int64_t e = to_fixed(end[a]);
-      key_[a] = key_of_fixed(s);
+      key[a] = key_of_fixed(s);
       const std::int32_t end_key = key_of_fixed(e);
       const std::int64_t d = e - s;
-      sign_[a] = d > 0 ? 1 : (d < 0 ? -1 : 0);
-      abs_[a] = d >= 0 ? d : -d;
-      remaining_[a] = end_key >= key_[a] ? end_key - key_[a] : key_[a] - end_key;
-      const std::int64_t cell = static_cast<std::int64_t>(key_[a]) * kOne;
-      next_[a] = d > 0 ? cell + kOne - s : (d < 0 ? s - cell : 0);
+      sign[a] = d > 0 ? 1 : (d < 0 ? -1 : 0);
+      abs[a] = d >= 0 ? d : -d;
+      remaining[a] = end_key >= key[a] ? end_key - key[a] : key[a] - end_key;
+      const std::int64_t cell = static_cast<std::int64_t>(key[a]) * kOne;
+      next[a] = d > 0 ? cell + kOne - s : (d < 0 ? s - cell : 0);
     }
-    total_ = static_cast<std::int64_t>(remaining_[0]) + remaining_[1] + remaining_[2];
+  }
+  /// Key of the end voxel.
+  [[nodiscard]] VoxelKey end_key() const {
+    return {key.x + sign[0] * remaining[0], key.y + sign[1] * remaining[1], key.z + sign[2] * remaining[2]};
+  }
+  /// Steps of the whole walk: Σ_a remaining_a.
+  [[nodiscard]] std::int64_t steps() const {
+    return static_cast<std::int64_t>(remaining[0]) + remaining[1] + remaining[2];
+  }
+
+  VoxelKey key;
+  int sign[3] = {0, 0, 0};
+  std::int32_t remaining[3] = {0, 0, 0};
+  std::int64_t abs[3] = {0, 0, 0};
+  std::int64_t next[3] = {0, 0, 0};
+};
+
+class SegmentWalker {
+public:
+  static constexpr int kFractionBits = kDdaFractionBits;
+  static constexpr std::int64_t kOne = SegmentSetup::kOne;
+
+  /// See SegmentSetup.
+  [[nodiscard]] static std::int64_t to_fixed(double v) { return SegmentSetup::to_fixed(v); }
+  /// See SegmentSetup.
+  [[nodiscard]] static std::int32_t key_of_fixed(std::int64_t f) { return SegmentSetup::key_of_fixed(f); }
+
+  /// Segment from `start` to `end`, both in voxel units (world metres · 1/l_v), each coordinate in
+  /// [−2^20, 2^20) — the caller checks (VoxelGrid::key_of succeeds for both).
+  SegmentWalker(const Vec3& start, const Vec3& end) : SegmentWalker(SegmentSetup(start, end)) {}
+  /// The walk of a quantised segment.
+  explicit SegmentWalker(const SegmentSetup& q) : key_(q.key) {
+    for (int a = 0; a < 3; ++a) {
+      sign_[a] = q.sign[a];
+      remaining_[a] = q.remaining[a];
+    }
+    total_ = q.steps();
+    const std::int64_t* A = q.abs;
+    const std::int64_t* N = q.next;
     // p_ab = N_a·A_b; i_ab = 2^F·A_b is added to p_ab when axis a steps.
-    p01_ = next_[0] * abs_[1], p02_ = next_[0] * abs_[2];
-    p10_ = next_[1] * abs_[0], p12_ = next_[1] * abs_[2];
-    p20_ = next_[2] * abs_[0], p21_ = next_[2] * abs_[1];
-    i01_ = kOne * abs_[1], i02_ = kOne * abs_[2];
-    i10_ = kOne * abs_[0], i12_ = kOne * abs_[2];
-    i20_ = kOne * abs_[0], i21_ = kOne * abs_[1];
+    p01_ = N[0] * A[1], p02_ = N[0] * A[2];
+    p10_ = N[1] * A[0], p12_ = N[1] * A[2];
+    p20_ = N[2] * A[0], p21_ = N[2] * A[1];
+    i01_ = kOne * A[1], i02_ = kOne * A[2];
+    i10_ = kOne * A[0], i12_ = kOne * A[2];
+    i20_ = kOne * A[0], i21_ = kOne * A[1];
     for (int a = 0; a < 3; ++a)
       if (remaining_[a] == 0) exhaust(a);
   }
@@ -126,10 +168,57 @@ private:
   int sign_[3] = {0, 0, 0};
   std::int32_t remaining_[3] = {0, 0, 0};
   std::int64_t total_ = 0;
-  std::int64_t abs_[3] = {0, 0, 0};
-  std::int64_t next_[3] = {0, 0, 0};
   std::int64_t p01_ = 0, p02_ = 0, p10_ = 0, p12_ = 0, p20_ = 0, p21_ = 0;
   std::int64_t i01_ = 0, i02_ = 0, i10_ = 0, i12_ = 0, i20_ = 0, i21_ = 0;
+};
+
+/// The step rule of SegmentWalker with three numbers instead of six. Over the axes that cross a voxel boundary
+/// (remaining > 0, hence A > 0) let M = Π A_b; the crossing time t_a = N_a / A_a is scaled to the exact integer
+/// T_a = t_a·M = N_a·Π_{b≠a} A_b, so t_a < t_b ⇔ T_a < T_b. A step along a adds D_a = 2^F·Π_{b≠a} A_b to T_a; an
+/// exhausted axis (and one that never moves) has T_a = +∞. Same tie rule as SegmentWalker::step (the later axis
+/// wins), so the voxel sequence is identical (tests/space/test_dda.cpp compares them). It does not track the key:
+/// the caller follows the returned axes from SegmentSetup::key.
+class CommonDenominatorStepper {
+public:
+  /// The stepper of segment q, or nullopt if |Δ| ≥ 1024 voxels on some axis (its products could then exceed 2^61);
+  /// then use SegmentWalker.
+  [[nodiscard]] static std::optional<CommonDenominatorStepper> make(const SegmentSetup& q) {
+    // (N_a + remaining_a·2^F)·m_a ≤ (A_a + 2^(F+1))·A_b·A_c < 2^61 when every A < 2^20 (1024 voxels): then no T_a
+    // nor T_a + D_a overflows.
+    if ((q.abs[0] | q.abs[1] | q.abs[2]) >= (std::int64_t{1} << 20)) return std::nullopt;
+    const std::int64_t a0 = q.remaining[0] > 0 ? q.abs[0] : 1, a1 = q.remaining[1] > 0 ? q.abs[1] : 1,
+                       a2 = q.remaining[2] > 0 ? q.abs[2] : 1;
+    const std::int64_t m[3] = {a1 * a2, a0 * a2, a0 * a1};
+    std::int64_t t[3], d[3];
+    for (int a = 0; a < 3; ++a) {
+      t[a] = q.remaining[a] > 0 ? q.next[a] * m[a] : kInf;
+      d[a] = SegmentSetup::kOne * m[a];
+    }
+    CommonDenominatorStepper s;
+    s.t0_ = t[0], s.t1_ = t[1], s.t2_ = t[2];
+    s.d0_ = d[0], s.d1_ = d[1], s.d2_ = d[2];
+    s.r0_ = q.remaining[0], s.r1_ = q.remaining[1], s.r2_ = q.remaining[2];
+    return s;
+  }
+
+  /// Moves to the next voxel and returns the axis crossed (0, 1, 2). Precondition: a step is left.
+  int step() {
+    if (t0_ < t1_) {
+      if (t2_ <= t0_) return advance(t2_, d2_, r2_, 2);
+      return advance(t0_, d0_, r0_, 0);
+    }
+    if (t2_ <= t1_) return advance(t2_, d2_, r2_, 2);
+    return advance(t1_, d1_, r1_, 1);
+  }
+
+private:
+  static constexpr std::int64_t kInf = std::int64_t{1} << 62;
+  static int advance(std::int64_t& t, std::int64_t d, std::int32_t& r, int axis) {
+    t = --r == 0 ? kInf : t + d;
+    return axis;
+  }
+  std::int64_t t0_ = kInf, t1_ = kInf, t2_ = kInf, d0_ = 0, d1_ = 0, d2_ = 0;
+  std::int32_t r0_ = 0, r1_ = 0, r2_ = 0;
 };
 
 }  // namespace nbs::detail
