@@ -71,6 +71,8 @@ public:
       local_.push_back(q);
     }
     if (local_.empty()) return 0;
+    local_p2_.clear();
+    for (VertexId q : local_) local_p2_.push_back(project(q));
     collect_local_faces();
     if (!split_containing_face()) fan();
     legalize();
@@ -215,8 +217,6 @@ private:
         edges_.push_back({t[k], t[(k + 1) % 3], corner_[3 * i + k], corner_[3 * i + (k + 1) % 3], 0});
     }
     for (auto& e : edges_) e.side_o = side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, o));
-    local_p2_.clear();
-    for (VertexId q : local_) local_p2_.push_back(project(q));
     vis_.clear();
     for (std::size_t i = 0; i < local_.size(); ++i) {
       const VertexId q = local_[i];
@@ -349,6 +349,7 @@ private:
   void close_gaps() {
     std::vector<VertexId>& cand = local_;
     cand.push_back(v_);
+    local_p2_.push_back(project(v_));  // local_p2_[i] = project(local_[i]) stays true
     next_generation();
     for (std::size_t i = 0; i < cand.size(); ++i)
       for (int guard = 0; guard < 4 && close_gap_from(cand[i]); ++guard) {
@@ -395,9 +396,10 @@ private:
         if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[(j + 1) % m])) return false;
       }
     // No other local vertex inside (winding number in projection).
-    for (VertexId q : local_) {
+    for (std::size_t iq = 0; iq < local_.size(); ++iq) {
+      const VertexId q = local_[iq];
       if (std::find(chain_.begin(), chain_.end(), q) != chain_.end()) continue;
-      const P2 pq = project(q);
+      const P2& pq = local_p2_[iq];
       int wind = 0;
       for (std::size_t i = 0; i < m; ++i) {
         const P2& a = chain_p2_[i];
