@@ -204,18 +204,11 @@ public:
   /// The block with id `id` for writing, allocated (all voxels unknown) if absent and reloaded if flushed. Its
   /// touched mask belongs to the current epoch. A direct-mapped cache of recently used blocks sits in front of the
   /// hash map; it is cleared by next_epoch() and by every flush, so the first access to a block in a scan always
-  /// takes the slow path below. Throws FileError if a flushed block cannot be read back.
+  /// takes block_slow. Throws FileError if a flushed block cannot be read back.
   [[nodiscard]] Block& block(std::uint64_t id) {
     CacheEntry& c = cache_[cache_slot(id)];
     if (c.id == id) return *c.block;
-    Block* b = find_or_make(id);
-    if (b->scan != epoch_) {
-      b->scan = epoch_;
-      b->touched.fill(0);
-    }
-    b->last_written = epoch_;
-    c = {id, b};
-    return *b;
+    return block_slow(id, c);
   }
   /// True if every voxel of the key box with corners a and b (any order, at most 64 voxels, else false) was marked
   /// updated in the current epoch (Block::touch after next_epoch()). Reads only: no block is allocated or reloaded.
@@ -497,6 +490,18 @@ private:
     std::uint64_t id = ~std::uint64_t{0};  // never a packed key (those use 63 bits)
     Block* block = nullptr;
   };
+
+  // block() after a cache miss: hash map (allocation, reload), epoch of the touched mask, cache entry c.
+  [[gnu::noinline]] Block& block_slow(std::uint64_t id, CacheEntry& c) {
+    Block* b = find_or_make(id);
+    if (b->scan != epoch_) {
+      b->scan = epoch_;
+      b->touched.fill(0);
+    }
+    b->last_written = epoch_;
+    c = {id, b};
+    return *b;
+  }
 
   VoxelGrid grid_{1.0};
   std::array<CacheEntry, std::size_t{1} << kCacheBits> cache_{};

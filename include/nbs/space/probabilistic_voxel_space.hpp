@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <exception>
 #include <span>
 #include <thread>
@@ -242,6 +243,8 @@ private:
   void begin_scan() {
     if constexpr (kNative) {
       (void)backend_.next_epoch();
+      constexpr std::int32_t kNone = VoxelKey::kMinIndex - 1;  // no walk has this key
+      full_band_[0] = full_band_[1] = VoxelKey{kNone, kNone, kNone};
     } else {
       touched_.clear();
     }
@@ -344,14 +347,19 @@ private:
                       [&](State& s) { return update(s, end_key, true); });
         return;
       }
-      const detail::SegmentSetup q(from * inv, to * inv);
-      // Every voxel of the key box spanned by the walk was updated in this scan (the usual case: ~100 beams end in
-      // each surface voxel per scan): the walk would only count them.
-      if (backend_.all_touched(q.key, q.end_key())) {
-        st.voxels_same_scan += static_cast<std::uint64_t>(q.steps()) + 1;
+      // Every voxel of the key box spanned by the walk's first and last voxel was updated in this scan (the usual
+      // case: ~100 beams end in each surface voxel per scan): the walk would only count its Σ|Δkey| + 1 voxels.
+      // Consecutive beams often span the same box; the last box found fully updated is remembered for the scan.
+      const Vec3 from_v = from * inv, to_v = to * inv;
+      const VoxelKey ks = detail::SegmentSetup::fixed_key(from_v), ke = detail::SegmentSetup::fixed_key(to_v);
+      if ((ks == full_band_[0] && ke == full_band_[1]) || backend_.all_touched(ks, ke)) {
+        full_band_[0] = ks;
+        full_band_[1] = ke;
+        st.voxels_same_scan += static_cast<std::uint64_t>(std::abs(ke.x - ks.x) + std::abs(ke.y - ks.y) +
+                                                          std::abs(ke.z - ks.z)) + 1;
         return;
       }
-      walk(q, true, st, update);
+      walk(detail::SegmentSetup(from_v, to_v), true, st, update);
     } else {
       walk(detail::SegmentSetup(from * inv, to * inv), true, st, update);
     }
@@ -421,6 +429,7 @@ private:
   SurfaceFeatureMap features_;
   IntegrationStats totals_;
   std::vector<BeamRecord> beams_;
+  VoxelKey full_band_[2];  ///< first and last key of a band walk whose key box was fully updated in this scan
   std::unordered_set<std::uint64_t> touched_;
 };
 

@@ -25,23 +25,36 @@ template <class S>
   return {(bk.x << e) | (i & m), (bk.y << e) | ((i >> e) & m), (bk.z << e) | (i >> (2 * e))};
 }
 
-/// The loop of walk_untouched over any stepper whose step() returns the axis crossed (SegmentWalker or its
-/// CommonDenominatorStepper): the voxel index is stepped inside a block; the block is looked up on leaving it.
-/// Stepper and signs are taken by value so that the loop keeps them in registers.
+/// The loop of walk_untouched over any stepper whose step() returns the axis crossed (SegmentWalker or
+/// CommonDenominatorStepper): the voxel index is stepped inside a block; the block is looked up on leaving it. Fresh
+/// voxels (rare) are collected and handed to visit in batches, so that the loop itself makes no calls but the block
+/// lookups. Stepper and signs are taken by value so that the loop keeps them in registers.
 template <class S, class Stepper, class Visit>
 void walk_untouched_steps(HashedBlockBackend<S>& be, Stepper st, const VoxelKey start, const int sx, const int sy,
                           const int sz, std::int64_t steps, const bool include_end, Visit& visit) {
   using BE = HashedBlockBackend<S>;
+  using Block = typename BE::Block;
   constexpr int e = BE::kEdgeBits, m = BE::kEdge - 1;
+  struct Fresh {  // no member initialisers: the batch is not zeroed on every call
+    Block* block;
+    std::int32_t bx, by, bz, index;
+  };
+  constexpr int kBatch = 16;
+  Fresh fresh[kBatch];
+  int n_fresh = 0;
+  const auto flush = [&] {
+    for (int f = 0; f < n_fresh; ++f)
+      visit(*fresh[f].block, fresh[f].index, VoxelKey{fresh[f].bx, fresh[f].by, fresh[f].bz}, false);
+    n_fresh = 0;
+  };
   VoxelKey bk{start.x >> e, start.y >> e, start.z >> e};
-  auto* blk = &be.block(bk.pack());
+  Block* blk = &be.block(bk.pack());
   int i = BE::local_index(start);
-  for (std::int64_t n = steps;; --n) {
-    if (n == 0) {
-      if (include_end && blk->touch(i)) visit(*blk, i, bk, true);
-      return;
+  for (std::int64_t n = steps; n > 0; --n) {
+    if (blk->touch(i)) {
+      fresh[n_fresh++] = {blk, bk.x, bk.y, bk.z, i};
+      if (n_fresh == kBatch) flush();
     }
-    if (blk->touch(i)) visit(*blk, i, bk, false);
     const int axis = st.step();
     int s, local;  // local: new position along `axis` inside the block; outside [0, m]: the walk left the block
     switch (axis) {
@@ -67,6 +80,8 @@ void walk_untouched_steps(HashedBlockBackend<S>& be, Stepper st, const VoxelKey 
       blk = &be.block(bk.pack());
     }
   }
+  flush();
+  if (include_end && blk->touch(i)) visit(*blk, i, bk, true);
 }
 
 /// Writing walk of the quantised segment q (valid keys) that updates each voxel at most once per scan: for every voxel

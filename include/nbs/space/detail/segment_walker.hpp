@@ -38,6 +38,11 @@ struct SegmentSetup {
     return static_cast<std::int32_t>(f >> kDdaFractionBits);
   }
 
+  /// Key of the voxel containing the quantised point v (voxel units), as the walk computes it.
+  [[nodiscard]] static VoxelKey fixed_key(const Vec3& v) {
+    return {key_of_fixed(to_fixed(v.x())), key_of_fixed(to_fixed(v.y())), key_of_fixed(to_fixed(v.z()))};
+  }
+
   /// Segment from `start` to `end`, both in voxel units (world metres · 1/l_v), each coordinate in
   /// [−2^20, 2^20) — the caller checks (VoxelGrid::key_of succeeds for both).
   SegmentSetup(const Vec3& start, const Vec3& end) {
