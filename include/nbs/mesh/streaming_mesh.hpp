@@ -183,7 +183,8 @@ public:
   [[nodiscard]] std::size_t memory_bytes() const {
     return sizeof(*this) + pos_.capacity() * sizeof(Vec3) + nrm_.capacity() * sizeof(Vec3) +
            los_.capacity() * sizeof(Eigen::Vector3f) + count_.capacity() * sizeof(std::uint32_t) +
-           attempt_.capacity() * sizeof(std::uint32_t) + faces_.memory_bytes() + grid_.memory_bytes();
+           attempt_.capacity() * sizeof(std::uint32_t) + faces_.memory_bytes() + grid_.memory_bytes() +
+           tri_.memory_bytes();
   }
 
 private:

@@ -80,6 +80,11 @@ public:
     return touched_;
   }
 
+  /// Heap bytes of the per-vertex marks (8 B per vertex); the other scratch buffers are bounded by the patch size.
+  [[nodiscard]] std::size_t memory_bytes() const {
+    return (mark_.capacity() + slot_.capacity()) * sizeof(std::uint32_t);
+  }
+
 private:
   static constexpr double kEps = 1e-12;
   static constexpr double kSameDirectionRad = 0.035;  // 2°
