@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "nbs/space/probabilistic_voxel_space.hpp"
@@ -77,6 +78,13 @@ TEST_CASE("cast_rays gives identical results for any thread count", "[space][ray
       REQUIRE(rt[i].hit_key == r1[i].hit_key);
     }
   }
+  // An exception thrown by the callback reaches the caller after every thread has stopped.
+  for (unsigned t : {1u, 3u})
+    REQUIRE_THROWS_AS(space.cast_rays(rays, t,
+                                      [&](std::size_t i, const VoxelKey&, const nbs::ThesisState&) {
+                                        if (i == 1500) throw std::runtime_error("visit failed");
+                                      }),
+                      std::runtime_error);
 }
 
 TEST_CASE("cast_ray: rays missing the unknown area and bad rays", "[space][raycast]") {
