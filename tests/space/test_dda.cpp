@@ -173,3 +173,22 @@ TEST_CASE("common-denominator stepper takes the same steps as SegmentWalker, tie
   REQUIRE(same_steps(Vec3(0, 0, 0), Vec3(1000.5, 0.5, 0.5)));
   REQUIRE_FALSE(nbs::detail::CommonDenominatorStepper::make({Vec3(0, 0, 0), Vec3(1024.5, 2.5, 1.5)}).has_value());
 }
+
+TEST_CASE("the walk's fixed-point keys are VoxelGrid::key_of of the same point", "[space][dda]") {
+  using nbs::detail::SegmentSetup;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  std::uniform_int_distribution<int> q(-300, 300);
+  for (const double res : {0.005, 0.002, 0.001, 0.0013}) {
+    const nbs::VoxelGrid g(res);
+    for (int i = 0; i < 20000; ++i) {
+      // random points and points on (or one ulp beside) voxel faces, where floor decides
+      Vec3 p(u(rng), u(rng), u(rng));
+      if (i % 2 == 1) {
+        const double x = q(rng) * res, y = q(rng) * res, z = q(rng) * res;
+        p = Vec3(std::nextafter(x, i % 4 == 1 ? -1.0 : 1.0), y, z);
+      }
+      REQUIRE(SegmentSetup::key_of_fixed(SegmentSetup::to_fixed(Vec3(p * g.inverse_resolution()))) == *g.key_of(p));
+    }
+  }
+}

@@ -347,9 +347,12 @@ private:
       return model_.update_band(s, b.beam, offset, is_end);
     };
     const double inv = grid_.inverse_resolution();
+    using Q = detail::SegmentSetup;
+    const Q::Fixed fs = Q::to_fixed(Vec3(from * inv)), fe = Q::to_fixed(Vec3(to * inv));
     if constexpr (kNative) {
-      const auto from_key = grid_.key_of(from);  // both are inside voxel_bounds(), so from_key is set
-      if (from_key ? grid_.in_voxel(to, *from_key) : !grid_.key_of(to)) {  // the band lies in one voxel: no walk
+      // The walk's keys are VoxelGrid::key_of of the same points (see SegmentSetup::to_fixed).
+      const VoxelKey ks = Q::key_of_fixed(fs), ke = Q::key_of_fixed(fe);
+      if (ks == ke) {  // the band lies in one voxel (the end voxel): no walk
         update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
                       [&](State& s) { return update(s, end_key, true); });
         return;
@@ -357,8 +360,6 @@ private:
       // Every voxel of the key box spanned by the walk's first and last voxel was updated in this scan (the usual
       // case: ~100 beams end in each surface voxel per scan): the walk would only count its Σ|Δkey| + 1 voxels.
       // Consecutive beams often span the same box; the last box found fully updated is remembered for the scan.
-      const Vec3 from_v = from * inv, to_v = to * inv;
-      const VoxelKey ks = detail::SegmentSetup::fixed_key(from_v), ke = detail::SegmentSetup::fixed_key(to_v);
       if ((ks == full_band_[0] && ke == full_band_[1]) || backend_.all_touched(ks, ke)) {
         full_band_[0] = ks;
         full_band_[1] = ke;
@@ -366,10 +367,8 @@ private:
                                                           std::abs(ke.z - ks.z)) + 1;
         return;
       }
-      walk(detail::SegmentSetup(from_v, to_v), true, st, update);
-    } else {
-      walk(detail::SegmentSetup(from * inv, to * inv), true, st, update);
     }
+    walk(Q(fs, fe), true, st, update);
   }
 
   void free_pass(const BeamRecord& b, IntegrationStats& st) {

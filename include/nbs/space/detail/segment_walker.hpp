@@ -10,6 +10,7 @@
 /// of steps is exactly Σ_a |end_key_a − start_key_a|, so the loop always terminates.
 /// Overflow: |coordinate| < 2^20 voxels ⇒ N_a < 2^32, A_b < 2^31 ⇒ products < 2^63.
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -38,17 +39,23 @@ struct SegmentSetup {
     return static_cast<std::int32_t>(f >> kDdaFractionBits);
   }
 
-  /// Key of the voxel containing the quantised point v (voxel units), as the walk computes it.
-  [[nodiscard]] static VoxelKey fixed_key(const Vec3& v) {
-    return {key_of_fixed(to_fixed(v.x())), key_of_fixed(to_fixed(v.y())), key_of_fixed(to_fixed(v.z()))};
+  /// Fixed-point coordinates of a point v in voxel units. v·2^F is exact (a power of two), so
+  /// key_of_fixed(to_fixed(v_a)) = floor(v_a): the walk's voxel keys equal VoxelGrid::key_of of the same point.
+  using Fixed = std::array<std::int64_t, 3>;
+  [[nodiscard]] static Fixed to_fixed(const Vec3& v) { return {to_fixed(v.x()), to_fixed(v.y()), to_fixed(v.z())}; }
+  /// Key of the voxel containing fixed-point coordinates f.
+  [[nodiscard]] static VoxelKey key_of_fixed(const Fixed& f) {
+    return {key_of_fixed(f[0]), key_of_fixed(f[1]), key_of_fixed(f[2])};
   }
 
   /// Segment from `start` to `end`, both in voxel units (world metres · 1/l_v), each coordinate in
   /// [−2^20, 2^20) — the caller checks (VoxelGrid::key_of succeeds for both).
-  SegmentSetup(const Vec3& start, const Vec3& end) {
+  SegmentSetup(const Vec3& start, const Vec3& end) : SegmentSetup(to_fixed(start), to_fixed(end)) {}
+  /// Segment between fixed-point coordinates (see to_fixed).
+  SegmentSetup(const Fixed& start, const Fixed& end) {
     for (int a = 0; a < 3; ++a) {
-      const std::int64_t s = to_fixed(start[a]);
-      const std::int64_t e = to_fixed(end[a]);
+      const std::int64_t s = start[a];
+      const std::int64_t e = end[a];
       key[a] = key_of_fixed(s);
       const std::int32_t end_key = key_of_fixed(e);
       const std::int64_t d = e - s;
