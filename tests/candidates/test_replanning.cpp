@@ -227,6 +227,57 @@ TEST_CASE("Alg. 3 replans around a wall: the first rotation in thesis order that
   CHECK(report.rotations_tried > 1);
 }
 
+TEST_CASE("Alg. 3 with a support plane: sensor positions below it are never accepted", "[replanning]") {
+  const WallScene sc;
+  // The answer without a support plane, for comparison.
+  const auto free_answer = brute_force(sc, nbs::NoCollisions{});
+  REQUIRE(free_answer);
+  for (const double plane_z : {0.04, 0.06, 0.10, 0.20}) {
+    nbs::ReplanSetting rs;
+    rs.support_plane_z_m = plane_z;
+    // Brute force: the first rotation in thesis order with both path ends on or above the plane that passes.
+    std::optional<Rotation> expected;
+    bool any_above = false;
+    for (const Rotation& r : thesis_order()) {
+      const auto p = nbs::rotate_scan_path(sc.path, sc.aim, r.bx, r.by);
+      if (p.start().position().z() < plane_z || p.end_position().z() < plane_z) continue;
+      any_above = true;
+      if (nbs::visible_fraction(sc.space, p, sc.targets, sc.sensor) >= 0.5) {
+        expected = r;
+        break;
+      }
+    }
+    nbs::LinearScanPath path = sc.path;
+    const auto report = nbs::replan(path, sc.aim, sc.targets, sc.space, nbs::NoCollisions{}, sc.sensor, rs);
+    INFO("plane z " << plane_z);
+    REQUIRE(report.accepted() == expected.has_value());
+    if (expected) {
+      CHECK(report.beta_x_rad == expected->bx);
+      CHECK(report.beta_y_rad == expected->by);
+      CHECK(path.start().position().z() >= plane_z);
+      CHECK(path.end_position().z() >= plane_z);
+    } else {
+      CHECK(report.outcome == (any_above ? nbs::ReplanOutcome::dropped_occluded
+                                         : nbs::ReplanOutcome::dropped_in_collision));
+    }
+  }
+  // Below every rotation (0.05 − 0.3 sin 40° > −0.2) the plane changes nothing; above every one (< 0.25) all drop.
+  nbs::ReplanSetting low, high;
+  low.support_plane_z_m = -0.2;
+  high.support_plane_z_m = 0.25;
+  nbs::LinearScanPath a = sc.path, b = sc.path;
+  const auto ra = nbs::replan(a, sc.aim, sc.targets, sc.space, nbs::NoCollisions{}, sc.sensor, low);
+  CHECK(ra.beta_x_rad == free_answer->bx);
+  CHECK(ra.beta_y_rad == free_answer->by);
+  CHECK(nbs::replan(b, sc.aim, sc.targets, sc.space, nbs::NoCollisions{}, sc.sensor, high).outcome ==
+        nbs::ReplanOutcome::dropped_in_collision);
+  nbs::ReplanSetting bad;
+  bad.support_plane_z_m = std::nan("");
+  CHECK_THROWS_AS(bad.validate(), nbs::InvalidArgument);
+  bad.support_plane_z_m = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(bad.validate(), nbs::InvalidArgument);
+}
+
 TEST_CASE("Alg. 3 with collisions: a table below the scene moves the answer", "[replanning]") {
   const WallScene sc;
   nbs::CollisionSetting cs;

@@ -222,3 +222,29 @@ TEST_CASE("loop: a custom termination policy stops the loop exactly", "[planner]
     CHECK(res.records[i].planning.best_utility < 1.0);  // Random: uniform in [0, 1)
   }
 }
+
+TEST_CASE("loop: the quality term sees surface after one scan; no planned path enters the pedestal", "[planner][loop]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::NbsPlanner<> planner({}, light_lsp(), sphere_box(), setting(2));
+  const nbs::IntegrationReport r = planner.integrate(sphere.scan(planner.first_scan(5), planner.sensor(), 1));
+  // Sec. 4.5.1: the voxels of the first scan's mesh carry features (one hit per voxel and scan, p = P_hit = 0.7,
+  // must pass Parameters::occupied_threshold), so Eq. 4.33 has something to weigh from the first planning step on.
+  REQUIRE(r.meshed > 0);
+  CHECK(r.features_written > 0);
+  CHECK(planner.space().features().size() == r.features_written);
+  nbs::SimulationSetting sim;
+  sim.seed = 5;
+  sim.max_scans = 6;
+  nbs::NbsPlanner<> loop({}, light_lsp(), sphere_box(), setting(2));
+  const auto res = nbs::run_simulation(loop, sphere, sim);
+  REQUIRE(res.records.size() >= 3);
+  for (const auto& rec : res.records) {
+    INFO("scan " << rec.scan);
+    CHECK(rec.path.start().position().z() >= sphere_box().min.z());  // Sec. 4.1: the box bottom is the support
+    CHECK(rec.path.end_position().z() >= sphere_box().min.z());
+  }
+  for (const nbs::ScanCandidate& c : loop.candidate_set()) {
+    CHECK(c.path.start().position().z() >= 0.0);
+    CHECK(c.path.end_position().z() >= 0.0);
+  }
+}

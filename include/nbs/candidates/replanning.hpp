@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <span>
 #include <string_view>
@@ -41,6 +42,11 @@ struct ReplanSetting {
   double incidence_cutoff_rad = 70.0 * std::numbers::pi / 180.0;  ///< Tab. 4.3
   double target_clearance_voxels = 2.0;  ///< rays stop this many voxel edges before the target (its own surface
                                          ///< voxels are not occluders). Our choice.
+  /// z (world, metres) of the support plane the object stands on (pedestal or table top, Sec. 4.1); the half-space
+  /// below it is solid, so a rotation whose start or end position lies below it is rejected outright (no 50 % rule:
+  /// a sensor inside the table sees nothing). −∞ (default): no support plane. NbsPlanner sets the bottom of the
+  /// bounding box of the unknown area.
+  double support_plane_z_m = -std::numeric_limits<double>::infinity();
 
   /// Throws InvalidArgument naming the first bad field (the largest angle must be < 90°).
   void validate() const {
@@ -53,6 +59,12 @@ struct ReplanSetting {
     detail::require_positive("portion_m", portion_m);
     detail::require_in_range("incidence_cutoff_rad", incidence_cutoff_rad, 0.0, std::numbers::pi / 2.0);
     detail::require_non_negative("target_clearance_voxels", target_clearance_voxels);
+    detail::require(!std::isnan(support_plane_z_m) && support_plane_z_m < std::numeric_limits<double>::infinity(),
+                    "support_plane_z_m must be finite or -inf, got ", support_plane_z_m);
+  }
+  /// True if both ends of `path` (hence all of it) lie on or above the support plane.
+  [[nodiscard]] bool above_support(const LinearScanPath& path) const {
+    return path.start().position().z() >= support_plane_z_m && path.end_position().z() >= support_plane_z_m;
   }
 };
 
@@ -177,10 +189,13 @@ template <PlanningSpace Space, CollisionChecker Checker>
   ReplanReport report;
   report.outcome = ReplanOutcome::dropped_occluded;
   const std::vector<double> angles = alg3_angles(setting.angle_step_rad, setting.angle_steps);
+  bool any_above_support = false;
   for (const double bx : angles)
     for (const double by : angles) {
       const LinearScanPath candidate = rotate_scan_path(path, aim, bx, by);
       ++report.rotations_tried;
+      if (!setting.above_support(candidate)) continue;
+      any_above_support = true;
       const double vis = visible_fraction(space, candidate, targets, sensor, setting);
       report.visible_fraction = std::max(report.visible_fraction, vis);
       if (vis < setting.min_visible_fraction) continue;
@@ -197,6 +212,7 @@ template <PlanningSpace Space, CollisionChecker Checker>
       path = candidate;
       return report;
     }
+  if (!any_above_support) report.outcome = ReplanOutcome::dropped_in_collision;  // inside the support everywhere
   return report;
 }
 

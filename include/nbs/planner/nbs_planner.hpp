@@ -9,6 +9,7 @@
 /// Thread-safety: not thread-safe; only candidate evaluation runs on `setting().threads` std::threads, and its
 /// result is identical for any thread count (so is every plan: the rest is sequential and deterministic).
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -223,10 +224,15 @@ template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
            TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
 void NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::admit(std::vector<ScanCandidate> fresh, IterationStats& st) {
   st.generated += fresh.size();
-  if (setting_.replan_candidates && !fresh.empty()) {
+  ReplanSetting rs = setting_.replan;
+  rs.incidence_cutoff_rad = params_.incidence_cutoff_rad;
+  rs.support_plane_z_m = box_.min.z();  // Sec. 4.1: the object stands on the plane at the bottom of the box
+  if (!setting_.replan_candidates) {
+    const auto below = [&](const ScanCandidate& c) { return !rs.above_support(c.path); };
+    st.dropped += static_cast<std::size_t>(std::ranges::count_if(fresh, below));
+    std::erase_if(fresh, below);
+  } else if (!fresh.empty()) {
     const auto t0 = std::chrono::steady_clock::now();
-    ReplanSetting rs = setting_.replan;
-    rs.incidence_cutoff_rad = params_.incidence_cutoff_rad;
     const std::vector<ReplanReport> reports = replan_candidates(fresh, *space_, collision, geometry_, rs);
     for (const ReplanReport& rep : reports) {
       st.replanned += rep.outcome == ReplanOutcome::rotated ? 1 : 0;

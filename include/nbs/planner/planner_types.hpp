@@ -77,7 +77,7 @@ struct IterationStats {
   CandidateStatus generator_status = CandidateStatus::ok;  ///< of the generator run in this step (if any)
   std::size_t generated = 0;          ///< candidates the generator returned in this step
   std::size_t replanned = 0;          ///< of them rotated by Alg. 3
-  std::size_t dropped = 0;            ///< of them dropped by Alg. 3
+  std::size_t dropped = 0;            ///< of them dropped by Alg. 3 or for lying below the support plane
   std::size_t evaluated = 0;          ///< candidates in the set S that were scored
   double best_utility = 0.0;          ///< utility of the chosen candidate (0 unless ok)
   double t_generate_s = 0.0;          ///< generation time

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Sparse per-voxel storage of the surface features of Sec. 4.5.1, kept apart from the voxel states so that only
-/// surface voxels (occupied, p ≥ 0.95) pay for them. The mesh component computes the features; this only stores them.
+/// surface voxels (occupied, p ≥ Parameters::occupied_threshold) pay for them. The mesh component computes the features; this only stores them.
 
 #include <Eigen/Core>
 

@@ -140,7 +140,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
           } else {
             c.observed = space.observed(k);
           }
-          // Features exist only for surface voxels (p ≥ 0.95, Sec. 4.5.1), which are occupied; look up only those.
+          // Features exist only for surface voxels (p ≥ Parameters::occupied_threshold, Sec. 4.5.1), which are occupied; look up only those.
           c.features = (have_features && c.occupied) ? features.find(k) : nullptr;
           emit(k, c, snapshot.contains(k) ? buf.bits.insert(snapshot.index_of(k)) : buf.visited.insert(k.pack()));
           return true;

@@ -1,0 +1,275 @@
+// nbs_diagnose: how good are the planner's choices? Runs the closed simulation loop of the default planner (C_H or
+// C_B/C_S) on a mesh and, at every planning step, executes EVERY candidate in the simulated scanner and measures its
+// true gain: the number of not-yet-covered ground-truth samples (non-bottom) within r (3 mm) of the candidate's
+// measured points. Prints per step: candidates, utility of the chosen one, its true gain, the best true gain, the
+// rank of the chosen one by true gain, and the Spearman correlation between utility and true gain.
+// With --oracle the planner picks the candidate of largest true gain (an upper bound for the selection given the
+// generated candidates). A research tool, not part of the headline benchmarks.
+//
+// usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
+//                     [--sampling P,R] [--threads N]
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "nbs/embree/simulated_scanner.hpp"
+#include "nbs/io/load_mesh.hpp"
+#include "nbs/mesh/normalize.hpp"
+#include "nbs/planner/nbs_planner.hpp"
+#include "nbs/planner/simulation_loop.hpp"
+#include "nbs/sensor/presets.hpp"
+#include "nbs/sim/detail/parallel_for.hpp"
+#include "nbs/sim/detail/point_kd_tree.hpp"
+#include "nbs/sim/ground_truth.hpp"
+
+namespace {
+
+struct Options {
+  std::string mesh = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  nbs::UpAxis up = nbs::UpAxis::y;
+  double size_m = 0.16;
+  std::uint64_t seed = 1;
+  int scans = 12;
+  char search = 'H';
+  bool oracle = false;
+  std::string selection = "C";
+  nbs::RaySampling sampling{4, 4};
+  unsigned threads = 2;
+  int hole_max_edges = 0;  // 0: Parameters default
+};
+
+/// What the diagnostic utility shares with the loop: ground truth, scanner, current coverage, the last step's log.
+struct Shared {
+  const nbs::embree::SimulatedScanner* scanner = nullptr;
+  const nbs::SurfaceSamples* samples = nullptr;
+  nbs::detail::PointKdTree sample_tree;
+  std::vector<char> covered;  // per sample
+  double radius_m = 0.003;
+  bool oracle = false;
+  nbs::Selection selection = nbs::Selection::ig_quality;
+  unsigned threads = 2;
+  // log of the last evaluation
+  std::vector<double> utility, gain;
+  std::size_t chosen = 0;
+
+  /// New non-bottom samples within r of the points of a scan along `path`.
+  [[nodiscard]] double true_gain(const nbs::LinearScanPath& path, const nbs::LaserStripeProfiler& lsp) const {
+    const nbs::Scan s = scanner->scan(path, lsp, 12345);
+    std::vector<char> fresh(covered.size(), 0);
+    std::size_t n = 0;
+    for (const nbs::Vec3& p : s.points)
+      sample_tree.for_each_within(p, radius_m, [&](std::size_t i, double) {
+        if (!covered[i] && !fresh[i] && !samples->bottom[i]) {
+          fresh[i] = 1;
+          ++n;
+        }
+      });
+    return static_cast<double>(n);
+  }
+};
+
+Shared* g_shared = nullptr;
+
+/// Debug: counts visits with features and those below the incidence cut-off.
+struct FeatureVisitCount {
+  double with = 0, below = 0, occ = 0;
+  void begin_candidate(std::size_t) { with = below = occ = 0; }
+  void begin_ray() {}
+  void visit(const nbs::VoxelVisit& v) {
+    occ += v.occupied ? 1 : 0;
+    if (!v.features) return;
+    ++with;
+    below += nbs::incidence_angle_rad(v.direction, v.features->mean_normal) < 1.2217 ? 1 : 0;
+  }
+  void end_ray(const nbs::RayEnd&) {}
+  [[nodiscard]] double value() const { return with * 1e6 + below * 1e-3 + occ * 1e-9; }
+};
+
+/// The C selection (IG/Quality) plus the true gain of every candidate; with `oracle`, the true gain decides.
+struct DiagnosticUtility {
+  struct Setting {};
+  Setting setting{};
+  template <class Space, nbs::CandidateRaySensor Sensor>
+  [[nodiscard]] nbs::EvaluationResult evaluate(std::span<const nbs::LinearScanPath> paths, const Sensor& sensor,
+                                               const Space& space, const nbs::UtilityContext& ctx,
+                                               const nbs::EvaluationSetting& eval) const {
+    Shared& sh = *g_shared;
+    nbs::SelectionUtility u;
+    u.setting.selection = sh.selection;
+    nbs::EvaluationResult r = u.evaluate(paths, sensor, space, ctx, eval);
+    sh.utility = r.values;
+    sh.gain.assign(paths.size(), 0.0);
+    nbs::detail::parallel_for(paths.size(), sh.threads, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) sh.gain[i] = sh.true_gain(paths[i], sensor);
+    });
+    if (std::getenv("NBS_DIAG_FEATURES")) {
+      const nbs::EvaluationResult fr = nbs::evaluate_candidates(paths, sensor, space, FeatureVisitCount{}, eval);
+      std::printf("features in space %zu; candidate 0..4 visits with features / below cut-off / occupied:",
+                  space.features().size());
+      for (std::size_t i = 0; i < std::min<std::size_t>(5, paths.size()); ++i) {
+        const double v = fr.values[i];
+        std::printf(" %.0f/%.0f/%.0f", std::floor(v / 1e6), std::fmod(v, 1e6) * 1e3, 0.0);
+      }
+      std::printf("\n");
+    }
+    if (sh.oracle) {
+      r.values = sh.gain;
+      r.best = nbs::best_index(r.values);
+    }
+    sh.chosen = r.best;
+    if (const char* dump = std::getenv("NBS_DIAG_DUMP")) {
+      static int step = 0;
+      ++step;
+      const std::string name = std::string(dump) + "_" + std::to_string(step) + ".csv";
+      if (std::FILE* f = std::fopen(name.c_str(), "w")) {
+        std::fprintf(f, "i,utility,gain,rays,voxels,x0,y0,z0,x1,y1,z1,vx,vy,vz\n");
+        for (std::size_t i = 0; i < paths.size(); ++i) {
+          const nbs::Vec3 a = paths[i].start().position(), b = paths[i].end_position();
+          const nbs::Vec3 v = paths[i].start().pose().linear().col(2);
+          std::fprintf(f, "%zu,%g,%g,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f\n", i, sh.utility[i],
+                       sh.gain[i], (unsigned long long)r.rays[i], (unsigned long long)r.voxels[i], a.x(), a.y(), a.z(),
+                       b.x(), b.y(), b.z(), v.x(), v.y(), v.z());
+        }
+        std::fclose(f);
+      }
+    }
+    return r;
+  }
+};
+
+std::vector<double> ranks(const std::vector<double>& v) {
+  std::vector<std::size_t> idx(v.size());
+  std::iota(idx.begin(), idx.end(), 0);
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return v[a] < v[b]; });
+  std::vector<double> r(v.size());
+  for (std::size_t i = 0; i < idx.size();) {
+    std::size_t j = i;
+    while (j + 1 < idx.size() && v[idx[j + 1]] == v[idx[i]]) ++j;
+    for (std::size_t k = i; k <= j; ++k) r[idx[k]] = 0.5 * double(i + j);
+    i = j + 1;
+  }
+  return r;
+}
+
+double spearman(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() < 3) return 0.0;
+  const std::vector<double> ra = ranks(a), rb = ranks(b);
+  const double n = double(a.size()), m = (n - 1) / 2;
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    sab += (ra[i] - m) * (rb[i] - m);
+    saa += (ra[i] - m) * (ra[i] - m);
+    sbb += (rb[i] - m) * (rb[i] - m);
+  }
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+}
+
+template <class Search>
+int run(const Options& opt) {
+  using namespace nbs;
+  IndexedMesh mesh = load_mesh(opt.mesh);
+  normalize_on_pedestal(mesh, opt.size_m, opt.up);
+  Parameters params;
+  if (opt.hole_max_edges > 0) params.hole_max_edges = opt.hole_max_edges;
+  GroundTruth::Setting gts;
+  gts.seed = opt.seed;
+  const GroundTruth truth(mesh, gts);
+  const embree::SimulatedScanner scanner(mesh);
+  Aabb unknown = mesh.bounds();
+  unknown.min -= Vec3(0.01, 0.01, 0.0);
+  unknown.max += Vec3(0.01, 0.01, 0.01);
+  Shared sh;
+  sh.scanner = &scanner;
+  sh.samples = &truth.samples();
+  sh.sample_tree = detail::PointKdTree(truth.samples().points);
+  sh.covered.assign(truth.samples().size(), 0);
+  sh.radius_m = params.completeness_radius_m;
+  sh.oracle = opt.oracle;
+  sh.selection = parse_selection(opt.selection);
+  sh.threads = opt.threads;
+  g_shared = &sh;
+  PlannerSetting ps;
+  ps.threads = opt.threads;
+  ps.seed = opt.seed;
+  ps.sampling = opt.sampling;
+  NbsPlanner<ProbabilisticVoxelSpace<>, StreamingMesh, Search, DiagnosticUtility, MaxScansReached> planner(
+      params, presets::dlr_lsp(), unknown, ps);
+  planner.termination = MaxScansReached(opt.scans);
+  CoverageTracker cov = truth.tracker();
+  std::printf("scan mode  c_m^    c_a %%  points  cand  chosen_gain  best_gain  rank  spearman\n");
+  SimulationSetting sim;
+  sim.seed = opt.seed;
+  sim.max_scans = opt.scans;
+  double sum_rho = 0.0;
+  int steps = 0;
+  (void)run_simulation(planner, scanner, sim, [&](const ScanRecord& r) {
+    std::vector<Vec3> v;
+    const StreamingMesh& m = planner.mesh();
+    for (std::size_t i = 0; i < m.vertex_count(); ++i)
+      if (m.has_normal(static_cast<VertexId>(i))) v.push_back(m.position(static_cast<VertexId>(i)));
+    cov.add(v);
+    const std::vector<bool>& c = cov.covered();
+    for (std::size_t i = 0; i < c.size(); ++i) sh.covered[i] = c[i] ? 1 : 0;
+    const char* mode = r.scan == 1 ? "init" : (r.planning.mode == SearchMode::HoleRescan ? "HR" : "BS");
+    if (r.scan == 1 || sh.gain.empty()) {
+      std::printf("%4d %-4s %6.3f %7.2f %7zu\n", r.scan, mode, r.integration.estimated_coverage,
+                  100 * cov.completeness().c_a(), r.points);
+      return;
+    }
+    const double best = *std::max_element(sh.gain.begin(), sh.gain.end());
+    const double got = sh.gain[sh.chosen];
+    const auto rank = std::count_if(sh.gain.begin(), sh.gain.end(), [&](double g) { return g > got; });
+    const double rho = spearman(sh.utility, sh.gain);
+    sum_rho += rho;
+    ++steps;
+    std::printf("%4d %-4s %6.3f %7.2f %7zu %5zu %12.0f %10.0f %5ld %9.3f\n", r.scan, mode,
+                r.integration.estimated_coverage, 100 * cov.completeness().c_a(), r.points, sh.gain.size(), got, best,
+                static_cast<long>(rank), rho);
+    sh.gain.clear();
+  });
+  std::printf("final c_a %.2f %%, mean spearman %.3f\n", 100 * cov.completeness().c_a(), steps ? sum_rho / steps : 0.0);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "nbs_diagnose: %s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--mesh") opt.mesh = next();
+    else if (a == "--up") { const std::string u = next(); opt.up = u == "x" ? nbs::UpAxis::x : u == "z" ? nbs::UpAxis::z : nbs::UpAxis::y; }
+    else if (a == "--size") opt.size_m = std::stod(next());
+    else if (a == "--seed") opt.seed = std::stoull(next());
+    else if (a == "--scans") opt.scans = std::stoi(next());
+    else if (a == "--search") opt.search = next().at(0);
+    else if (a == "--oracle") opt.oracle = true;
+    else if (a == "--hmax") opt.hole_max_edges = std::stoi(next());
+    else if (a == "--selection") opt.selection = next();
+    else if (a == "--threads") opt.threads = static_cast<unsigned>(std::stoul(next()));
+    else if (a == "--sampling") {
+      const std::string s = next();
+      const auto comma = s.find(',');
+      opt.sampling = {std::stoul(s.substr(0, comma)), std::stoul(s.substr(comma + 1))};
+    } else {
+      std::fprintf(stderr, "usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] "
+                           "[--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG] [--sampling P,R] [--threads N]\n");
+      return a == "--help" ? 0 : 2;
+    }
+  }
+  if (opt.search == 'S') return run<nbs::SphereSpace>(opt);
+  if (opt.search == 'B') return run<nbs::BoundarySpace>(opt);
+  return run<nbs::BoundaryHoleSpace>(opt);
+}
