@@ -88,6 +88,8 @@ public:
       observed[i >> 6] |= bit;
       return fresh;
     }
+    /// True if voxel i was marked updated in the current scan (valid for a block of the current epoch).
+    [[nodiscard]] bool is_touched(int i) const { return (touched[i >> 6] >> (i & 63)) & 1u; }
     /// Marks voxel i updated in the current scan; returns false if it already was.
     bool touch(int i) {
       const std::uint64_t bit = std::uint64_t{1} << (i & 63);
@@ -229,8 +231,7 @@ public:
             blk = c.id == id ? c.block : find_resident_block(id);
             if (blk == nullptr || blk->scan != epoch_) return false;
           }
-          const int i = local_index(k);
-          if (((blk->touched[i >> 6] >> (i & 63)) & 1u) == 0) return false;
+          if (!blk->is_touched(local_index(k))) return false;
         }
     return true;
   }

@@ -132,7 +132,7 @@ public:
         ++st.rejected_model;
         continue;
       }
-      beams_.push_back({o, p, dir, r, *b});
+      beams_.push_back({o, p, dir, r, *b, detail::SegmentSetup::to_fixed(Vec3(p * grid_.inverse_resolution()))});
     }
     st.integrated = beams_.size();
     begin_scan();
@@ -244,6 +244,7 @@ private:
     Vec3 dir;
     double range_m;
     typename Model::Beam beam;
+    detail::SegmentSetup::Fixed end_fixed;  ///< end point in the walks' fixed point (voxel units · 2^10)
   };
   static constexpr bool kNative = detail::is_hashed_block_backend_v<Backend>;
 
@@ -326,7 +327,8 @@ private:
   void band_pass(const BeamRecord& b, IntegrationStats& st) {
     const double w = model_.band_half_width_m(b.beam);
     const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
-    const VoxelKey end_key = *grid_.key_of(b.end);
+    using Q = detail::SegmentSetup;
+    const VoxelKey end_key = Q::key_of_fixed(b.end_fixed);  // = grid_.key_of(b.end), see SegmentSetup::to_fixed
     if constexpr (kNative) {
       // The band lies inside the end voxel (which lies inside voxel_bounds()): no clipping, no walk.
       if (grid_.in_voxel(a, end_key) && grid_.in_voxel(e, end_key)) {
@@ -336,18 +338,23 @@ private:
       }
     }
     // Clipped band. With both ends inside, clip_segment would return exactly [0, 1] (quotients of monotonically
-    // rounded differences), so the divisions are skipped.
-    double t0 = 0.0, t1 = 1.0;
-    if (!(inside(a, voxel_bounds_) && inside(e, voxel_bounds_)) && !detail::clip_segment(a, e, voxel_bounds_, t0, t1))
-      return;  // cannot happen: b.end is inside
-    const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds_), to = detail::point_in_box(a, e, t1, voxel_bounds_);
+    // rounded differences), so the divisions are skipped, and point_in_box(a, e, 0) is a itself.
+    Vec3 from, to;
+    if (inside(a, voxel_bounds_) && inside(e, voxel_bounds_)) {
+      from = a;
+      to = detail::point_in_box(a, e, 1.0, voxel_bounds_);
+    } else {
+      double t0, t1;
+      if (!detail::clip_segment(a, e, voxel_bounds_, t0, t1)) return;  // cannot happen: b.end is inside
+      from = detail::point_in_box(a, e, t0, voxel_bounds_);
+      to = detail::point_in_box(a, e, t1, voxel_bounds_);
+    }
     const auto update = [&](State& s, const VoxelKey& k, bool) {
       const bool is_end = k == end_key;
       const double offset = is_end ? 0.0 : (grid_.center(k) - b.origin).dot(b.dir) - b.range_m;
       return model_.update_band(s, b.beam, offset, is_end);
     };
     const double inv = grid_.inverse_resolution();
-    using Q = detail::SegmentSetup;
     const Q::Fixed fs = Q::to_fixed(Vec3(from * inv)), fe = Q::to_fixed(Vec3(to * inv));
     if constexpr (kNative) {
       // The walk's keys are VoxelGrid::key_of of the same points (see SegmentSetup::to_fixed).
@@ -376,7 +383,7 @@ private:
     if (!detail::clip_segment(b.origin, b.end, voxel_bounds_, t0, t1)) return;
     const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds_);
     const double inv = grid_.inverse_resolution();
-    walk(detail::SegmentSetup(from * inv, b.end * inv), false, st,
+    walk(detail::SegmentSetup(detail::SegmentSetup::to_fixed(Vec3(from * inv)), b.end_fixed), false, st,
          [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
   }
 

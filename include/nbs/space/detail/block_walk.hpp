@@ -51,7 +51,8 @@ void walk_untouched_steps(HashedBlockBackend<S>& be, Stepper st, const VoxelKey 
   Block* blk = &be.block(bk.pack());
   int i = BE::local_index(start);
   for (std::int64_t n = steps; n > 0; --n) {
-    if (blk->touch(i)) {
+    if (!blk->is_touched(i)) {  // test first: the store happens only for the rare fresh voxel
+      (void)blk->touch(i);
       fresh[n_fresh++] = {blk, bk.x, bk.y, bk.z, i};
       if (n_fresh == kBatch) flush();
     }

@@ -186,51 +186,51 @@ private:
 
 /// The step rule of SegmentWalker with three numbers instead of six. Over the axes that cross a voxel boundary
 /// (remaining > 0, hence A > 0) let M = Π A_b; the crossing time t_a = N_a / A_a is scaled to the exact integer
-/// T_a = t_a·M = N_a·Π_{b≠a} A_b, so t_a < t_b ⇔ T_a < T_b. A step along a adds D_a = 2^F·Π_{b≠a} A_b to T_a; an
-/// exhausted axis (and one that never moves) has T_a = +∞. Same tie rule as SegmentWalker::step (the later axis
-/// wins), so the voxel sequence is identical (tests/space/test_dda.cpp compares them). It does not track the key:
-/// the caller follows the returned axes from SegmentSetup::key.
+/// T_a = t_a·M = N_a·Π_{b≠a} A_b, so t_a < t_b ⇔ T_a < T_b. A step along a adds D_a = 2^F·Π_{b≠a} A_b to T_a; an axis
+/// that never crosses has T_a = +∞. Same tie rule as SegmentWalker::step (the later axis wins), so the voxel sequence
+/// is identical (tests/space/test_dda.cpp compares them). It does not track the key: the caller follows the returned
+/// axes from SegmentSetup::key, for exactly SegmentSetup::steps() steps.
+/// No per-axis countdown is needed: every crossing of the walk has t ≤ 1 and the first crossing past an axis' last
+/// one has t > 1 — except for an axis moving down whose end lies exactly on a voxel face (t = 1, which could win a
+/// tie against a real crossing at t = 1); make() leaves those segments to SegmentWalker.
 class CommonDenominatorStepper {
 public:
-  /// The stepper of segment q, or nullopt if |Δ| ≥ 1024 voxels on some axis (its products could then exceed 2^61);
-  /// then use SegmentWalker.
+  /// The stepper of segment q, or nullopt if |Δ| ≥ 1024 voxels on some axis (its products could then exceed 2^61)
+  /// or an axis moving down ends exactly on a voxel face; then use SegmentWalker.
   [[nodiscard]] static std::optional<CommonDenominatorStepper> make(const SegmentSetup& q) {
     // (N_a + remaining_a·2^F)·m_a ≤ (A_a + 2^(F+1))·A_b·A_c < 2^61 when every A < 2^20 (1024 voxels): then no T_a
     // nor T_a + D_a overflows.
     if ((q.abs[0] | q.abs[1] | q.abs[2]) >= (std::int64_t{1} << 20)) return std::nullopt;
+    for (int a = 0; a < 3; ++a)  // end coordinate of a downward axis: start − A = key·2^F + N − A
+      if (q.sign[a] < 0 && q.remaining[a] > 0 && ((q.next[a] - q.abs[a]) & (SegmentSetup::kOne - 1)) == 0)
+        return std::nullopt;
     const std::int64_t a0 = q.remaining[0] > 0 ? q.abs[0] : 1, a1 = q.remaining[1] > 0 ? q.abs[1] : 1,
                        a2 = q.remaining[2] > 0 ? q.abs[2] : 1;
     const std::int64_t m[3] = {a1 * a2, a0 * a2, a0 * a1};
     std::int64_t t[3], d[3];
     for (int a = 0; a < 3; ++a) {
       t[a] = q.remaining[a] > 0 ? q.next[a] * m[a] : kInf;
-      d[a] = SegmentSetup::kOne * m[a];
+      d[a] = q.remaining[a] > 0 ? SegmentSetup::kOne * m[a] : 0;
     }
     CommonDenominatorStepper s;
     s.t0_ = t[0], s.t1_ = t[1], s.t2_ = t[2];
     s.d0_ = d[0], s.d1_ = d[1], s.d2_ = d[2];
-    s.r0_ = q.remaining[0], s.r1_ = q.remaining[1], s.r2_ = q.remaining[2];
     return s;
   }
 
   /// Moves to the next voxel and returns the axis crossed (0, 1, 2). Precondition: a step is left.
   int step() {
     if (t0_ < t1_) {
-      if (t2_ <= t0_) return advance(t2_, d2_, r2_, 2);
-      return advance(t0_, d0_, r0_, 0);
+      if (t2_ <= t0_) return t2_ += d2_, 2;
+      return t0_ += d0_, 0;
     }
-    if (t2_ <= t1_) return advance(t2_, d2_, r2_, 2);
-    return advance(t1_, d1_, r1_, 1);
+    if (t2_ <= t1_) return t2_ += d2_, 2;
+    return t1_ += d1_, 1;
   }
 
 private:
   static constexpr std::int64_t kInf = std::int64_t{1} << 62;
-  static int advance(std::int64_t& t, std::int64_t d, std::int32_t& r, int axis) {
-    t = --r == 0 ? kInf : t + d;
-    return axis;
-  }
   std::int64_t t0_ = kInf, t1_ = kInf, t2_ = kInf, d0_ = 0, d1_ = 0, d2_ = 0;
-  std::int32_t r0_ = 0, r1_ = 0, r2_ = 0;
 };
 
 }  // namespace nbs::detail
