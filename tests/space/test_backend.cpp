@@ -1,5 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <random>
+#include <set>
+#include <tuple>
+
 #include "nbs/space/hashed_block_backend.hpp"
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/thesis_model.hpp"
@@ -50,4 +55,35 @@ TEST_CASE("HashedBlockBackend keeps voxel states compact", "[space][backend]") {
   REQUIRE(b.get({9, 7, 7}) == surface);
   REQUIRE(b.get({8, 7, 7}) == free_only);
   REQUIRE(b.get({11, 7, 7}) == nbs::ThesisState{});
+}
+
+TEST_CASE("HashedBlockBackend::all_touched matches a voxel-by-voxel check", "[space][backend]") {
+  using BE = nbs::HashedBlockBackend<nbs::ThesisState>;
+  BE be(0.01);
+  (void)be.next_epoch();
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> c(-10, 9), d(0, 3), coin(0, 5);
+  std::set<std::tuple<int, int, int>> touched;
+  for (int x = -10; x < 10; ++x)  // touch 5 in 6 voxels of a 20³ region spanning several blocks
+    for (int y = -10; y < 10; ++y)
+      for (int z = -10; z < 10; ++z)
+        if (coin(rng) != 0) {
+          const nbs::VoxelKey k{x, y, z};
+          (void)be.block(BE::block_id(k)).touch(BE::local_index(k));
+          touched.insert({x, y, z});
+        }
+  int full = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const nbs::VoxelKey a{c(rng), c(rng), c(rng)};
+    const nbs::VoxelKey b{a.x + d(rng) - 1, a.y + d(rng) - 1, a.z + d(rng) - 1};
+    bool all = true;
+    for (int x = std::min(a.x, b.x); x <= std::max(a.x, b.x); ++x)
+      for (int y = std::min(a.y, b.y); y <= std::max(a.y, b.y); ++y)
+        for (int z = std::min(a.z, b.z); z <= std::max(a.z, b.z); ++z) all = all && touched.count({x, y, z}) == 1;
+    REQUIRE(be.all_touched(a, b) == all);
+    full += all ? 1 : 0;
+  }
+  REQUIRE(full > 1000);
+  (void)be.next_epoch();  // a new scan: nothing is touched
+  REQUIRE_FALSE(be.all_touched(nbs::VoxelKey{0, 0, 0}, nbs::VoxelKey{0, 0, 0}));
 }

@@ -219,6 +219,18 @@ public:
     const VoxelKey hi{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
     if ((std::int64_t{hi.x} - lo.x + 1) * (std::int64_t{hi.y} - lo.y + 1) * (std::int64_t{hi.z} - lo.z + 1) > 64)
       return false;
+    if (block_id(lo) == block_id(hi)) {  // one block: word z of the touched mask holds the 8×8 voxels of slab z
+      const Block* blk = epoch_block(block_id(lo));
+      if (blk == nullptr) return false;
+      constexpr int m = kEdge - 1;
+      const int x0 = lo.x & m, nx = hi.x - lo.x + 1, y0 = lo.y & m, ny = hi.y - lo.y + 1;
+      const std::uint64_t row = ((std::uint64_t{1} << nx) - 1) << x0;  // bits x0 .. x0 + nx − 1 of one y row
+      std::uint64_t mask = 0;
+      for (int y = y0; y < y0 + ny; ++y) mask |= row << (kEdge * y);
+      for (int z = lo.z & m; z <= (hi.z & m); ++z)
+        if ((touched_word(*blk, z) & mask) != mask) return false;
+      return true;
+    }
     std::uint64_t id = ~std::uint64_t{0};
     const Block* blk = nullptr;
     for (std::int32_t z = lo.z; z <= hi.z; ++z)
@@ -227,14 +239,21 @@ public:
           const VoxelKey k{x, y, z};
           if (block_id(k) != id) {
             id = block_id(k);
-            const CacheEntry& c = cache_[cache_slot(id)];
-            blk = c.id == id ? c.block : find_resident_block(id);
-            if (blk == nullptr || blk->scan != epoch_) return false;
+            blk = epoch_block(id);
+            if (blk == nullptr) return false;
           }
           if (!blk->is_touched(local_index(k))) return false;
         }
     return true;
   }
+  /// The resident block `id` if it was accessed for writing in the current epoch (its touched mask is current).
+  [[nodiscard]] const Block* epoch_block(std::uint64_t id) const {
+    const CacheEntry& c = cache_[cache_slot(id)];
+    const Block* b = c.id == id ? c.block : find_resident_block(id);
+    return b != nullptr && b->scan == epoch_ ? b : nullptr;
+  }
+  /// Word w of b's touched mask: bits 64·w … 64·w + 63, i.e. the voxels of slab z = w (x + 8·y within the word).
+  [[nodiscard]] static std::uint64_t touched_word(const Block& b, int w) { return b.touched[static_cast<std::size_t>(w)]; }
   /// Marks voxel i of b observed and keeps the observed count.
   void note_observed(Block& b, int i) { observed_ += b.observe(i) ? 1u : 0u; }
   /// Blocks allocated so far, resident or flushed.
