@@ -183,3 +183,49 @@ TEST_CASE("Hole Rescan combines holes of similar centre and orientation into one
   }
   CHECK(with_a == 1);
 }
+
+TEST_CASE("Hole Rescan skips holes whose surface was measured (a triangulation gap, not unseen surface)", "[hr]") {
+  HolePlane scene({Eigen::Vector3d(0, 0, 0.004), Eigen::Vector3d(0.0, -0.028, 0.004)});
+  // Voxel space with the eight 5 mm voxels around the origin occupied (surface measured at the first hole only).
+  Space space(0.005);
+  nbs::Scan scan;
+  for (double x : {-0.0025, 0.0025})
+    for (double y : {-0.0025, 0.0025})
+      for (double z : {-0.0025, 0.0025}) {
+        scan.profile_poses.push_back(nbs::test::down_at(x, y, 0.1).pose());
+        scan.add_point(Vec3(x, y, z), static_cast<std::uint32_t>(scan.profile_poses.size() - 1));
+      }
+  (void)space.integrate(scan);
+  REQUIRE(space.occupied(*space.grid().key_of(Vec3(0.001, 0.001, 0.001))));
+  const auto holes = nbs::find_holes(scene.mesh, scene.params);
+  auto aims_near = [](const nbs::CandidateSet& set, const Vec3& c) {
+    int n = 0;
+    for (const auto& x : set.candidates)
+      if ((x.aim.point - c).norm() < 0.003) ++n;
+    return n;
+  };
+  const nbs::HoleRescan hr;
+  const auto set = hr.generate(scene.context(space));
+  REQUIRE(set.status == nbs::CandidateStatus::ok);
+  // Oracle: a hole is measured iff its centre lies within a voxel edge (along n_h) of one of the eight voxels.
+  std::size_t expected_measured = 0;
+  for (const auto& h : holes)
+    expected_measured += (h.center.cwiseAbs().maxCoeff() < 0.005 + 1e-9 && std::abs(h.center.z()) < 0.005) ? 1 : 0;
+  CHECK(expected_measured >= 1);
+  CHECK(set.measured == expected_measured);
+  CHECK(aims_near(set, Vec3(0, 0, 0)) == 0);
+  CHECK(aims_near(set, Vec3(0, -0.028, 0)) == 1);
+  // Switched off, or in an empty space, the hole at the origin gets its path.
+  nbs::HoleRescanSetting off;
+  off.skip_measured_holes = false;
+  const auto all = nbs::HoleRescan(off).generate(scene.context(space));
+  CHECK(all.measured == 0);
+  CHECK(aims_near(all, Vec3(0, 0, 0)) == 1);
+  const Space empty(0.005);
+  const auto in_empty = hr.generate(scene.context(empty));
+  CHECK(in_empty.measured == 0);
+  CHECK(aims_near(in_empty, Vec3(0, 0, 0)) == 1);
+  nbs::HoleRescanSetting bad;
+  bad.measured_probe_voxels = -1.0;
+  CHECK_THROWS_AS(nbs::HoleRescan{bad}, nbs::InvalidArgument);
+}

@@ -164,7 +164,9 @@ TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[p
   nbs::SimulationSetting sim;
   sim.seed = 11;
   sim.max_scans = 40;  // larger than n_abort: the planner's criterion must stop the loop
-  nbs::NbsPlanner<> p(params, light_lsp(), sphere_box(), setting(2));
+  nbs::PlannerSetting thesis = setting(2);
+  thesis.keep_exploring = false;  // Sec. 4.4 as written: Boundary Search candidates are discarded at the switch
+  nbs::NbsPlanner<> p(params, light_lsp(), sphere_box(), thesis);
   std::vector<int> seen;
   const auto res = nbs::run_simulation(p, sphere, sim, [&](const nbs::ScanRecord& r) { seen.push_back(r.scan); });
   const auto& rec = res.records;

@@ -65,8 +65,9 @@ enum class CandidateStatus : std::uint8_t {
 struct CandidateSet {
   std::vector<ScanCandidate> candidates;
   CandidateStatus status = CandidateStatus::ok;
-  std::size_t considered = 0;
-  std::size_t rejected = 0;
+  std::size_t considered = 0;  ///< boundaries / holes / sphere paths looked at
+  std::size_t rejected = 0;    ///< of them given no candidate (occluded, degenerate, ...)
+  std::size_t measured = 0;    ///< of them skipped as measured surface (Hole Rescan, skip_measured_holes)
 };
 
 }  // namespace nbs

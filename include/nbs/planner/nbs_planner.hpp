@@ -275,14 +275,14 @@ PlanResult NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::next_best_scan() {
   if (done()) return finish(PlanStatus::done);
   if (mesh_->face_count() == 0) return finish(PlanStatus::nothing_seen_yet);
 
-  if (mode_ == SearchMode::BoundarySearch) {
+  if (mode_ == SearchMode::BoundarySearch || setting_.keep_exploring) {
     using Explore = typename Se::ExploreGenerator;
     if (!kFixedCandidateSpace<Explore> || !fixed_space_generated_) {
       generate_into_pool(search.explore, st);
       fixed_space_generated_ = true;
     }
     if constexpr (Se::kHasRescan) {
-      if (pool_.empty() && setting_.rescan_when_explore_empty) {
+      if (mode_ == SearchMode::BoundarySearch && pool_.empty() && setting_.rescan_when_explore_empty) {
         mode_ = SearchMode::HoleRescan;
         rescan_pending_ = true;
       }
@@ -290,7 +290,7 @@ PlanResult NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::next_best_scan() {
   }
   if constexpr (Se::kHasRescan) {
     if (mode_ == SearchMode::HoleRescan && (rescan_pending_ || (pool_.empty() && setting_.redetect_holes))) {
-      pool_.clear();  // Sec. 4.4: the remaining Boundary Search candidates are discarded
+      if (!setting_.keep_exploring) pool_.clear();  // Sec. 4.4: the remaining Boundary Search candidates go
       generate_into_pool(search.rescan, st);
       rescan_pending_ = false;
       control_.mark_holes_detected();

@@ -112,6 +112,12 @@ struct PlannerSetting {
   bool redetect_holes = true;
   /// Our choice: when Boundary Search leaves S empty (no boundary left), switch to Hole Rescan early.
   bool rescan_when_explore_empty = true;
+  /// After the switch to Hole Rescan (Eq. 4.38) keep the Boundary Search candidates and keep generating them, so S
+  /// holds both and the utility chooses. The thesis (Sec. 4.4) discards them (false). Our default (true): with a
+  /// noisy stream ĉ_m stalls early — on the bunny at scan 3 with c_a = 73.5 % of a possible 94.6 % — and Hole
+  /// Rescan alone then gains little (nbs_diagnose: best hole candidate ≤ 5.2k new samples vs ≥ 38k for the best
+  /// boundary candidate at the same step).
+  bool keep_exploring = true;
 
   /// Throws InvalidArgument naming the bad field.
   void validate() const {
