@@ -7,7 +7,9 @@
 // generated candidates). A research tool, not part of the headline benchmarks.
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
-//                     [--sampling P,R] [--threads N]
+//                     [--sampling P,R] [--threads N] [--hmax N]
+// Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
+// writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate).
 
 #include <algorithm>
 #include <cmath>
@@ -75,21 +77,6 @@ struct Shared {
 
 Shared* g_shared = nullptr;
 
-/// Debug: counts visits with features and those below the incidence cut-off.
-struct FeatureVisitCount {
-  double with = 0, below = 0, occ = 0;
-  void begin_candidate(std::size_t) { with = below = occ = 0; }
-  void begin_ray() {}
-  void visit(const nbs::VoxelVisit& v) {
-    occ += v.occupied ? 1 : 0;
-    if (!v.features) return;
-    ++with;
-    below += nbs::incidence_angle_rad(v.direction, v.features->mean_normal) < 1.2217 ? 1 : 0;
-  }
-  void end_ray(const nbs::RayEnd&) {}
-  [[nodiscard]] double value() const { return with * 1e6 + below * 1e-3 + occ * 1e-9; }
-};
-
 /// The C selection (IG/Quality) plus the true gain of every candidate; with `oracle`, the true gain decides.
 struct DiagnosticUtility {
   struct Setting {};
@@ -107,16 +94,8 @@ struct DiagnosticUtility {
     nbs::detail::parallel_for(paths.size(), sh.threads, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) sh.gain[i] = sh.true_gain(paths[i], sensor);
     });
-    if (std::getenv("NBS_DIAG_FEATURES")) {
-      const nbs::EvaluationResult fr = nbs::evaluate_candidates(paths, sensor, space, FeatureVisitCount{}, eval);
-      std::printf("features in space %zu; candidate 0..4 visits with features / below cut-off / occupied:",
-                  space.features().size());
-      for (std::size_t i = 0; i < std::min<std::size_t>(5, paths.size()); ++i) {
-        const double v = fr.values[i];
-        std::printf(" %.0f/%.0f/%.0f", std::floor(v / 1e6), std::fmod(v, 1e6) * 1e3, 0.0);
-      }
-      std::printf("\n");
-    }
+    if (std::getenv("NBS_DIAG_FEATURES"))  // surface features the quality term (Eq. 4.33) can see
+      std::printf("features in space %zu\n", space.features().size());
     if (sh.oracle) {
       r.values = sh.gain;
       r.best = nbs::best_index(r.values);

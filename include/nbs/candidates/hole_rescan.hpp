@@ -95,7 +95,7 @@ public:
   /// True if surface was measured at the hole (see HoleRescanSetting::skip_measured_holes).
   template <PlanningSpace Space>
   [[nodiscard]] bool measured(const Space& space, const Hole& hole) const {
-    if (!hole.center.allFinite() || !hole.normal.allFinite() || !(hole.normal.norm() > 0.5)) return false;
+    if (!has_frame(hole)) return false;
     const Vec3 d = setting_.measured_probe_voxels * space.resolution_m() * hole.normal.normalized();
     return space.cast_ray(Ray{hole.center + d, hole.center - d}, detail::ContinueVisit{}).hit;
   }
@@ -104,7 +104,7 @@ public:
   template <PlanningSpace Space>
   [[nodiscard]] std::optional<Vec3> hole_direction(const Space& space, const Hole& hole, int samples, double d_s,
                                                    double offset_m) const {
-    if (!hole.center.allFinite() || !hole.normal.allFinite() || !(hole.normal.norm() > 0.5)) return std::nullopt;
+    if (!has_frame(hole)) return std::nullopt;
     const Vec3 n_h = hole.normal.normalized();
     const auto dirs = detail::spiral_directions(n_h, samples, setting_.front_hemisphere_only);
     std::vector<char> free(dirs.size(), 0);
@@ -115,6 +115,11 @@ public:
   }
 
 private:
+  /// A finite centre c_h and a usable PCA normal n_h (the probe and Alg. 2 both need them).
+  [[nodiscard]] static bool has_frame(const Hole& hole) {
+    return hole.center.allFinite() && hole.normal.allFinite() && hole.normal.norm() > 0.5;
+  }
+
   template <PlanningSpace Space>
   [[nodiscard]] std::vector<std::vector<detail::HoleView>> group_views(const Space& space,
                                                                       const std::vector<detail::HoleView>& views,
