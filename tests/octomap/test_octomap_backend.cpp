@@ -5,22 +5,19 @@
 #include "nbs/octomap/obstacle_model.hpp"
 #include "nbs/octomap/octree_backend.hpp"
 #include "nbs/space/log_odds_model.hpp"
+#include "octomap/classification_agreement.hpp"
 #include "space/support/backend_conformance.hpp"
 #include "space/support/synthetic_scan.hpp"
 
 namespace {
 using nbs::Vec3;
 using nbs::VoxelKey;
-using Native = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
+using Native = nbs::test::NativeLogOddsSpace;
 using OnOctree = nbs::ProbabilisticVoxelSpace<::octomap::OcTree, nbs::LogOddsModel>;
 // Float-representable box so that OctoMap's float BBX test and ours agree.
 const nbs::Aabb kBox{nbs::test::to_float(Vec3(-0.1, -0.1, 0.0)), nbs::test::to_float(Vec3(0.1, 0.1, 0.2))};
 const nbs::test::SphereLspSetup kSetup{.profiles = 40, .rays_per_profile = 120, .noise_sigma_m = 0.0003};
 
-enum class Cls { unknown, free, occupied };
-Cls classify(const nbs::LogOddsModel& m, bool observed, const nbs::LogOddsState& s) {
-  return !observed ? Cls::unknown : (m.occupied(s) ? Cls::occupied : Cls::free);
-}
 }  // namespace
 
 TEST_CASE("octomap::OcTree passes the backend conformance suite", "[octomap][backend]") {
@@ -43,39 +40,17 @@ TEST_CASE("PVS on OcTree and on native blocks produce identical states", "[octom
 
 TEST_CASE("native log-odds space classifies >= 99.9 % of voxels like OctoMap's insertion", "[octomap][oracle]") {
   Native native(0.004, kBox);
-  ::octomap::OcTree ref(0.004);
-  ::octomap::point3d bmin(static_cast<float>(kBox.min.x()), static_cast<float>(kBox.min.y()),
-                          static_cast<float>(kBox.min.z()));
-  ::octomap::point3d bmax(static_cast<float>(kBox.max.x()), static_cast<float>(kBox.max.y()),
-                          static_cast<float>(kBox.max.z()));
-  ref.setBBXMin(bmin);
-  ref.setBBXMax(bmax);
-  ref.useBBXLimit(true);
+  auto ref = nbs::test::bbx_limited_octree(0.004, kBox);
   for (int i = 0; i < 6; ++i) {
     const auto scan = nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 200 + i);
     (void)native.integrate(scan);
     nbs::octomap::insert_scan(ref, scan);
   }
-  std::size_t total = 0, same = 0, occupied = 0;
-  const auto compare = [&](const VoxelKey& k) {
-    const auto o = nbs::octomap::to_octree_key(k);
-    const auto* n = ref.search(*o);
-    const Cls a = classify(native.model(), native.observed(k), native.state(k));
-    const Cls b = classify(native.model(), n != nullptr, n ? nbs::LogOddsState{n->getLogOdds()} : nbs::LogOddsState{});
-    ++total;
-    same += a == b ? 1 : 0;
-    occupied += a == Cls::occupied ? 1 : 0;
-  };
-  native.for_each([&](const VoxelKey& k, const nbs::LogOddsState&) { compare(k); });
-  std::size_t only_ref = 0;
-  nbs::for_each_voxel(ref, [&](const VoxelKey& k, const nbs::LogOddsState&) {
-    if (!native.observed(k)) ++only_ref;
-  });
-  total += only_ref;
-  INFO("voxels " << total << ", identical " << same << ", only in OctoMap " << only_ref);
-  REQUIRE(total > 20000);
-  REQUIRE(occupied > 500);
-  REQUIRE(static_cast<double>(same) / static_cast<double>(total) >= 0.999);
+  const auto r = nbs::test::classification_agreement(native, ref);
+  INFO("voxels " << r.total << ", identical " << r.same << ", only in OctoMap " << r.only_ref);
+  REQUIRE(r.total > 20000);
+  REQUIRE(r.occupied > 500);
+  REQUIRE(r.share() >= 0.999);
 }
 
 TEST_CASE("obstacle model: occupied and unknown voxels become occupied leaves", "[octomap][obstacle]") {
