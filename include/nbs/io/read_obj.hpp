@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "nbs/io/detail/file_bytes.hpp"
+#include "nbs/io/detail/finish_mesh.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 
 namespace nbs {
@@ -52,12 +53,7 @@ namespace nbs {
       offset += n;
     }
   }
-  try {
-    mesh.validate();
-  } catch (const InvalidArgument& e) {
-    throw FileError(detail::concat(path, ": ", e.what()));
-  }
-  return mesh;
+  return detail::finish_mesh(path, std::move(mesh));
 }
 
 }  // namespace nbs

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "nbs/io/detail/file_bytes.hpp"
+#include "nbs/io/detail/finish_mesh.hpp"
 #include "nbs/io/detail/ply_body.hpp"
 #include "nbs/io/detail/ply_header.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
@@ -135,12 +136,7 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
     }
   }
   in.finish();
-  try {
-    mesh.validate();
-  } catch (const InvalidArgument& e) {
-    throw FileError(detail::concat(path, ": ", e.what()));
-  }
-  return mesh;
+  return detail::finish_mesh(path, std::move(mesh));
 }
 
 }  // namespace nbs
