@@ -7,12 +7,19 @@
 //                              profile, 0.3 mm profile step, 50 µm noise): the figure reported before the bunny.
 //  mesh.cost_growth_10k_to_1m  time per incoming point with a 1M-vertex model ÷ with a 10k-vertex model (plane)
 //  mesh.bytes_per_vertex       StreamingMesh::memory_bytes() / vertex_count() of the 1M-vertex model
+// Tools for optimisation work (then nothing else runs):
+//  bench_mesh --mesh_hash       FNV-1a hash of the mesh (positions, normals, faces, stats) built from several streams,
+//                               to check that a speed-up leaves the output bit-identical.
+//  bench_mesh --mesh_prefix=N   streams the first N points of the bunny stream (sphere without nbs::embree) inside
+//                               stream_prefix(), e.g. for valgrind --tool=callgrind --toggle-collect='*stream_prefix*'.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <string_view>
 #include <vector>
 
 #include "headline.hpp"
@@ -141,9 +148,101 @@ void BM_StreamSphere(benchmark::State& state) {
 }
 BENCHMARK(BM_StreamSphere)->Unit(benchmark::kMillisecond);
 
+/// FNV-1a 64 over the bytes of the mesh: positions, normals, faces in order, and the stream counters.
+std::uint64_t mesh_hash(const nbs::StreamingMesh& m) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  auto bytes = [&](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+  };
+  for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+    bytes(m.position(static_cast<nbs::VertexId>(v)).data(), 3 * sizeof(double));
+    bytes(m.normal(static_cast<nbs::VertexId>(v)).data(), 3 * sizeof(double));
+  }
+  m.for_each_face([&](const nbs::MeshFace& f) { bytes(&f, sizeof f); });
+  const nbs::StreamingStats& s = m.stats();
+  for (std::uint64_t c : {s.received, s.invalid, s.outside, s.too_close, s.stored, s.meshed, s.normal_failures})
+    bytes(&c, sizeof c);
+  return h;
+}
+
+void print_hash(const char* name, const nbs::StreamingMesh& m) {
+  std::printf("%-28s %016llx  vertices %zu faces %zu\n", name, static_cast<unsigned long long>(mesh_hash(m)),
+              m.vertex_count(), m.face_count());
+}
+
+int hash_streams() {
+  {
+    const Stream s = sphere_stream(0.08, 0.1, 3);
+    nbs::StreamingMesh m;
+    feed(m, s);
+    print_hash("sphere", m);
+    nbs::StreamingMeshSettings st;
+    st.normal_radius_m = 0.006;  // R_m < R_n: the other ball order
+    st.mesh_radius_m = 0.004;
+    nbs::StreamingMesh m2(st);
+    feed(m2, s);
+    print_hash("sphere R_m < R_n", m2);
+  }
+  {
+    nbs::StreamingMesh m;
+    build_plane(m, 10000, 1);
+    feed(m, plane_probe(0.035, 2));
+    print_hash("plane 10k + probe", m);
+  }
+#ifdef NBS_BENCH_MESH_BUNNY
+  const std::vector<nbs::Scan> scans = bunny_scans();
+  {
+    nbs::StreamingMesh m;
+    for (const auto& s : scans) (void)m.integrate(s);
+    print_hash("bunny 6 scans", m);
+  }
+  {
+    nbs::StreamingMesh m(nbs::Parameters{}, nbs::Aabb(Vec3(-0.05, -0.05, 0.0), Vec3(0.05, 0.05, 0.1)));
+    for (std::size_t k = 3; k < scans.size(); ++k) (void)m.integrate(scans[k]);
+    print_hash("bunny scans 4-6, box", m);
+  }
+#endif
+  return 0;
+}
+
+/// The first n points of the headline stream, in one function so that callgrind can count only this.
+[[gnu::noinline]] std::size_t stream_prefix(nbs::StreamingMesh& m, const std::vector<Vec3>& pts,
+                                            const std::vector<Vec3>& los) {
+  for (std::size_t i = 0; i < pts.size(); ++i) (void)m.insert(pts[i], los[i]);
+  return m.face_count();
+}
+
+int run_prefix(std::size_t n) {
+  std::vector<Vec3> pts, los;
+#ifdef NBS_BENCH_MESH_BUNNY
+  for (const auto& s : bunny_scans())
+    for (std::size_t i = 0; i < s.size() && pts.size() < n; ++i) {
+      pts.push_back(s.points[i]);
+      los.push_back(s.line_of_sight(i));
+    }
+#else
+  const Stream s = sphere_stream(0.08, 0.1, 3);
+  pts.assign(s.points.begin(), s.points.begin() + static_cast<std::ptrdiff_t>(std::min(n, s.points.size())));
+  los.assign(s.los.begin(), s.los.begin() + static_cast<std::ptrdiff_t>(pts.size()));
+#endif
+  nbs::StreamingMesh m;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t faces = stream_prefix(m, pts, los);
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%zu points, %zu vertices, %zu faces, %.0f points/s, hash %016llx\n", pts.size(), m.vertex_count(),
+              faces, static_cast<double>(pts.size()) / dt, static_cast<unsigned long long>(mesh_hash(m)));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a(argv[i]);
+    if (a == "--mesh_hash") return hash_streams();
+    if (a.starts_with("--mesh_prefix=")) return run_prefix(std::strtoull(argv[i] + 14, nullptr, 10));
+  }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   double sphere_rate = 0.0;
