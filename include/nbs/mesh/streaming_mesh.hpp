@@ -238,6 +238,7 @@ private:
   // scratch
   std::vector<std::pair<double, VertexId>> ball_, ball2_;
   std::vector<Vec3> pts_;
+  std::vector<double> wts_;
   std::vector<VertexId> meshed_nb_, retry_;
 };
 
@@ -294,13 +295,17 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
 }
 
 inline bool StreamingMesh::estimate(VertexId v) {
-  const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
+  const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m, inv_rn2 = 1.0 / rn2;
   pts_.clear();
+  wts_.clear();
   pts_.push_back(pos_[v]);
+  wts_.push_back(detail::pca_weight(0.0, inv_rn2));
   for (const auto& [d2, q] : ball_)
-    if (d2 <= rn2) pts_.push_back(pos_[q]);
-  const auto est = detail::estimate_normal(pos_[v], pts_, settings_.normal_radius_m, los_[v].cast<double>(),
-                                           settings_.robustness);
+    if (d2 <= rn2) {
+      pts_.push_back(pos_[q]);
+      wts_.push_back(detail::pca_weight(d2, inv_rn2));
+    }
+  const auto est = detail::estimate_normal(pts_, wts_, los_[v].cast<double>(), settings_.robustness);
   if (!est.robust) {
     ++stats_.normal_failures;
     attempt_[v] = count_[v];

@@ -4,7 +4,9 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <span>
 
 #include "nbs/core/types.hpp"
@@ -23,31 +25,67 @@ struct NormalEstimate {
   bool robust = false;
 };
 
-/// Weighted PCA normal at `centre` from `points` (all within `radius_m`, the centre may be among them).
-/// Weights w = 1 − (d / radius)², so near points dominate. The normal is flipped so that normal · line_of_sight < 0
-/// (it points back to the sensor). Non-robust when a threshold of `rb` fails or the line of sight is (almost)
-/// parallel to the tangent plane (|cos| < 0.02).
-[[nodiscard]] inline NormalEstimate estimate_normal(const Vec3& centre, std::span<const Vec3> points,
-                                                    double radius_m, const Vec3& line_of_sight,
-                                                    const NormalRobustness& rb) {
+/// Eigenvalues of the symmetric 3×3 matrix `a` (lower triangle read), ascending, in closed form (trigonometric
+/// method). Accurate to about 1e-8 · λ2 (worst near a double eigenvalue); used only to reject clear cases early.
+[[nodiscard]] inline Vec3 closed_form_eigenvalues(const Mat3& a) {
+  const double p1 = a(1, 0) * a(1, 0) + a(2, 0) * a(2, 0) + a(2, 1) * a(2, 1);
+  const double q = (a(0, 0) + a(1, 1) + a(2, 2)) / 3.0;
+  const double b0 = a(0, 0) - q, b1 = a(1, 1) - q, b2 = a(2, 2) - q;
+  const double p = std::sqrt((b0 * b0 + b1 * b1 + b2 * b2 + 2.0 * p1) / 6.0);
+  if (!(p > 0.0)) return Vec3::Constant(q);
+  // r = det((a − q I) / p) / 2, clamped to [−1, 1].
+  const double det = b0 * (b1 * b2 - a(2, 1) * a(2, 1)) - a(1, 0) * (a(1, 0) * b2 - a(2, 1) * a(2, 0)) +
+                     a(2, 0) * (a(1, 0) * a(2, 1) - b1 * a(2, 0));
+  const double r = std::clamp(det / (2.0 * p * p * p), -1.0, 1.0);
+  const double phi = std::acos(r) / 3.0;
+  const double hi = q + 2.0 * p * std::cos(phi);
+  const double lo = q + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+  return {lo, 3.0 * q - hi - lo, hi};
+}
+
+/// PCA weight w = 1 − (d / R_n)² (clamped at 0) + 1e-6 of a point at squared distance `d2` from the centre.
+[[nodiscard]] inline double pca_weight(double d2, double inv_radius2) {
+  return std::max(0.0, 1.0 - d2 * inv_radius2) + 1e-6;
+}
+
+/// Weighted PCA normal from `points` with weights `weights` (pca_weight() of their distance to the centre, so near
+/// points dominate). The normal is flipped so that normal · line_of_sight < 0 (it points back to the sensor).
+/// Non-robust when a threshold of `rb` fails or the line of sight is (almost) parallel to the tangent plane
+/// (|cos| < 0.02).
+[[nodiscard]] inline NormalEstimate estimate_normal(std::span<const Vec3> points, std::span<const double> weights,
+                                                    const Vec3& line_of_sight, const NormalRobustness& rb) {
   NormalEstimate out;
   if (static_cast<int>(points.size()) < rb.min_neighbours) return out;
-  const double inv_r2 = 1.0 / (radius_m * radius_m);
   Vec3 mean = Vec3::Zero();
   double wsum = 0.0;
-  for (const Vec3& p : points) {
-    const double w = std::max(0.0, 1.0 - (p - centre).squaredNorm() * inv_r2) + 1e-6;
-    mean += w * p;
-    wsum += w;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    mean += weights[i] * points[i];
+    wsum += weights[i];
   }
   mean /= wsum;
+  // Lower triangle only (all the solver reads), each entry the same sum of (w d_i) d_j as the full outer product.
   Mat3 cov = Mat3::Zero();
-  for (const Vec3& p : points) {
-    const double w = std::max(0.0, 1.0 - (p - centre).squaredNorm() * inv_r2) + 1e-6;
-    const Vec3 d = p - mean;
-    cov.noalias() += w * d * d.transpose();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 d = points[i] - mean;
+    const Vec3 wd = weights[i] * d;
+    cov(0, 0) += wd.x() * d.x();
+    cov(1, 0) += wd.y() * d.x();
+    cov(2, 0) += wd.z() * d.x();
+    cov(1, 1) += wd.y() * d.y();
+    cov(2, 1) += wd.z() * d.y();
+    cov(2, 2) += wd.z() * d.z();
   }
-  cov /= wsum;
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) cov(i, j) /= wsum;
+  // Clearly failing thresholds (beyond 1e-5 λ2, far above the closed form's error) are rejected without the
+  // iterative solver; the verdict is the solver's one.
+  {
+    const Vec3 cf = closed_form_eigenvalues(cov);
+    const double margin = 1e-5 * std::abs(cf(2));
+    if (cf(2) > 0.0 &&
+        (cf(1) < rb.min_spread_ratio * cf(2) - margin || cf(0) > rb.max_flatness_ratio * cf(1) + margin))
+      return out;
+  }
   const Eigen::SelfAdjointEigenSolver<Mat3> es(cov);
   if (es.info() != Eigen::Success) return out;
   const Vec3 ev = es.eigenvalues();  // ascending
