@@ -89,8 +89,8 @@ template <EdgeMesh M>
     for (std::size_t v = 0; v < n; ++v) {
       const Vec3 p = mesh.position(static_cast<VertexId>(v));
       if (!p.allFinite()) continue;
-      grid.for_each_candidate(p, min_distance_m, [&](std::uint32_t q) {
-        const double d2 = (mesh.position(q) - p).squaredNorm();
+      grid.for_each_candidate(p, min_distance_m, [&](std::uint32_t q, const Vec3& pq) {
+        const double d2 = (pq - p).squaredNorm();
         if (d2 < r2) r.add(detail::concat("vertices ", q, " and ", v, " are ", std::sqrt(d2), " m apart (< ", min_distance_m, ")"));
       });
       grid.insert(p, static_cast<std::uint32_t>(v));

@@ -192,9 +192,9 @@ private:
   void gather(const Vec3& c, double r, VertexId self, std::vector<std::pair<double, VertexId>>& out) const {
     out.clear();
     const double r2 = r * r;
-    grid_.for_each_candidate(c, r, [&](std::uint32_t id) {
+    grid_.for_each_candidate(c, r, [&](std::uint32_t id, const Vec3& q) {
       if (id == self) return;
-      const double d2 = (pos_[id] - c).squaredNorm();
+      const double d2 = (q - c).squaredNorm();
       if (d2 <= r2) out.emplace_back(d2, id);
     });
   }
@@ -204,8 +204,8 @@ private:
   [[nodiscard]] bool too_close(const Vec3& p) {
     const double r2 = settings_.reduction_radius_m * settings_.reduction_radius_m;
     if (last_close_ < pos_.size() && (pos_[last_close_] - p).squaredNorm() < r2) return true;
-    return grid_.any_candidate(p, settings_.reduction_radius_m, [&](std::uint32_t id) {
-      if (!((pos_[id] - p).squaredNorm() < r2)) return false;
+    return grid_.any_candidate(p, settings_.reduction_radius_m, [&](std::uint32_t id, const Vec3& q) {
+      if (!((q - p).squaredNorm() < r2)) return false;
       last_close_ = id;
       return true;
     });

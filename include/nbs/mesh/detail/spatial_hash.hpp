@@ -1,10 +1,12 @@
 #pragma once
 /// \file
 /// Spatial hash grid of point ids for ball queries. Cells are cubes of edge `cell_m`; the table is open-addressing
-/// (linear probing) keyed by packed integer cell coordinates, a slot holding the key and the index of the cell's id
-/// list. With the density limitation (no two points closer than R_r) a cell holds at most O((cell_m / R_r)^3)
-/// points, so a ball query costs O(1) independent of the number of stored points. Not thread-safe.
+/// (linear probing) keyed by packed integer cell coordinates, a slot holding the key and the index of the cell's list
+/// of points (id and a copy of the position, so a query touches only its cells). With the density limitation (no two
+/// points closer than R_r) a cell holds at most O((cell_m / R_r)^3) points, so a ball query costs O(1) independent of
+/// the number of stored points. Not thread-safe.
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -30,11 +32,11 @@ public:
       buckets_.emplace_back();
       ++used_;
     }
-    buckets_[slot.bucket].push_back(id);
+    buckets_[slot.bucket].push_back({p, id});
   }
 
-  /// Calls `f(id)` for every stored id whose cell intersects the ball of radius `r` around `p` (cells are visited in
-  /// x, y, z order, ids of a cell in insertion order). The caller filters by exact distance.
+  /// Calls `f(id, position)` for every stored point whose cell intersects the ball of radius `r` around `p` (cells
+  /// are visited in x, y, z order, points of a cell in insertion order). The caller filters by exact distance.
   template <class F>
   void for_each_candidate(const Vec3& p, double r, F&& f) const {
     const Eigen::Vector3i lo = cell_of(p - Vec3::Constant(r));
@@ -45,22 +47,29 @@ public:
       const double lo_c = c * cell_m_ - grow, hi_c = (c + 1) * cell_m_ + grow;
       return v < lo_c ? lo_c - v : (v > hi_c ? v - hi_c : 0.0);
     };
+    // Squared z gaps once per query (the same values as computed per cell).
+    constexpr int kSpan = 16;
+    const int nz = hi.z() - lo.z() + 1;
+    std::array<double, kSpan> gz2{};
+    const bool cached = nz <= kSpan;
+    if (cached)
+      for (int k = 0; k < nz; ++k) gz2[static_cast<std::size_t>(k)] = square(gap(lo.z() + k, p.z()));
     for (int x = lo.x(); x <= hi.x(); ++x) {
       const double gx = gap(x, p.x());
       for (int y = lo.y(); y <= hi.y(); ++y) {
         const double gxy = gx * gx + square(gap(y, p.y()));
         if (gxy > r2) continue;
         for (int z = lo.z(); z <= hi.z(); ++z) {
-          if (gxy + square(gap(z, p.z())) > r2) continue;
+          if (gxy + (cached ? gz2[static_cast<std::size_t>(z - lo.z())] : square(gap(z, p.z()))) > r2) continue;
           const Slot& slot = slots_[find_slot(key_of(Eigen::Vector3i(x, y, z)))];
           if (slot.key == kEmpty) continue;
-          for (std::uint32_t id : buckets_[slot.bucket]) f(id);
+          for (const Entry& e : buckets_[slot.bucket]) f(e.id, e.p);
         }
       }
     }
   }
 
-  /// True if `pred(id)` holds for some stored id whose cell intersects the cube of half-size `r` around `p`. The
+  /// True if `pred(id, position)` holds for some stored point whose cell intersects the cube of half-size `r` around `p`. The
   /// cell of `p` is probed first and the search stops at the first hit, so a point inside a dense region costs one
   /// probe.
   template <class Pred>
@@ -80,8 +89,8 @@ public:
 
   /// Heap bytes used by the table and the buckets (approximate: capacity-based).
   [[nodiscard]] std::size_t memory_bytes() const {
-    std::size_t b = slots_.capacity() * sizeof(Slot) + buckets_.capacity() * sizeof(std::vector<std::uint32_t>);
-    for (const auto& v : buckets_) b += v.capacity() * sizeof(std::uint32_t);
+    std::size_t b = slots_.capacity() * sizeof(Slot) + buckets_.capacity() * sizeof(std::vector<Entry>);
+    for (const auto& v : buckets_) b += v.capacity() * sizeof(Entry);
     return b;
   }
 
@@ -91,6 +100,11 @@ private:
     std::uint64_t key = kEmpty;
     std::uint32_t bucket = 0;
   };
+  /// A stored point.
+  struct Entry {
+    Vec3 p;
+    std::uint32_t id;
+  };
 
   [[nodiscard]] static double square(double v) { return v * v; }
 
@@ -98,8 +112,8 @@ private:
   [[nodiscard]] bool any_in_cell(const Eigen::Vector3i& c, Pred& pred) const {
     const Slot& slot = slots_[find_slot(key_of(c))];
     if (slot.key == kEmpty) return false;
-    for (std::uint32_t id : buckets_[slot.bucket])
-      if (pred(id)) return true;
+    for (const Entry& e : buckets_[slot.bucket])
+      if (pred(e.id, e.p)) return true;
     return false;
   }
 
@@ -139,7 +153,7 @@ private:
   double cell_m_;
   double inv_cell_;
   std::vector<Slot> slots_;
-  std::vector<std::vector<std::uint32_t>> buckets_;
+  std::vector<std::vector<Entry>> buckets_;
   std::size_t used_ = 0;
 };
 
