@@ -80,9 +80,9 @@ public:
     return touched_;
   }
 
-  /// Heap bytes of the per-vertex marks (8 B per vertex); the other scratch buffers are bounded by the patch size.
+  /// Heap bytes of the per-vertex marks and border memo (20 B per vertex); the other scratch buffers are bounded by the patch size.
   [[nodiscard]] std::size_t memory_bytes() const {
-    return (mark_.capacity() + slot_.capacity()) * sizeof(std::uint32_t);
+    return (mark_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + border_.capacity() * sizeof(BorderMemo);
   }
 
 private:
@@ -318,12 +318,14 @@ private:
     ++touched_;
   }
 
-  /// next_border(x), memoised in slot_ for the current generation (a new one starts whenever faces change).
+  /// next_border(x), memoised per vertex until x's faces change (FaceStore::version).
   [[nodiscard]] VertexId next_border_cached(VertexId x) {
-    if (marked(x)) return slot_[x];
-    const VertexId y = next_border(x);
-    set_mark(x, y);
-    return y;
+    if (border_.size() <= x) border_.resize(std::max(pos_.size(), std::size_t{x} + 1));
+    BorderMemo& m = border_[x];
+    const std::uint32_t version = fs_.version(x);
+    if (m.valid && m.version == version) return m.next;
+    m = {next_border(x), version, true};
+    return m.next;
   }
   /// Border edge x→y (its face on the left, none on the right) leaving x, first found; kNoVertex if none.
   /// A face holding y→x also holds x, so "no face on the right" is checked among x's own faces: y is not the
@@ -355,7 +357,6 @@ private:
     std::vector<VertexId>& cand = local_;
     cand.push_back(v_);
     local_p2_.push_back(project(v_));  // local_p2_[i] = project(local_[i]) stays true
-    next_generation();
     for (std::size_t i = 0; i < cand.size(); ++i)
       for (int guard = 0; guard < 4 && close_gap_from(cand[i]); ++guard) {
       }
@@ -365,6 +366,7 @@ private:
     const double r2 = s_.radius_m * s_.radius_m;
     chain_.assign(1, x);
     chain_p2_.assign(1, project(x));
+    chain_area2_ = 0.0;
     double length = 0.0;
     for (int k = 1; k <= s_.max_gap_edges; ++k) {
       const VertexId y = next_border_cached(chain_.back());
@@ -374,7 +376,9 @@ private:
       if ((pos_[y] - pos_[v_]).squaredNorm() > 4.0 * r2) return false;
       length += (pos_[y] - pos_[chain_.back()]).norm();
       chain_.push_back(y);
-      chain_p2_.push_back(project(y));
+      const P2 py = project(y), &pb = chain_p2_.back();
+      chain_area2_ += pb.x() * py.y() - pb.y() * py.x();
+      chain_p2_.push_back(py);
       const double chord2 = (pos_[y] - pos_[x]).squaredNorm();
       if (k >= 2 && chord2 <= r2 && length * length >= s_.min_notch_ratio * s_.min_notch_ratio * chord2 &&
           !fs_.has_edge(x, y) && fill_polygon(false))
@@ -386,13 +390,10 @@ private:
   /// Ear-clips the polygon chain_ (closed by the chord back to chain_[0] unless `closed`). See close_gaps().
   bool fill_polygon(bool closed) {
     const std::size_t m = chain_.size();
-    // Clockwise in projection (the gap is on the right of the border walk).
-    double area2 = 0.0;
-    for (std::size_t i = 0; i < m; ++i) {
-      const P2& a = chain_p2_[i];
-      const P2& b = chain_p2_[(i + 1) % m];
-      area2 += a.x() * b.y() - a.y() * b.x();
-    }
+    // Clockwise in projection (the gap is on the right of the border walk): the chain's shoelace sum (summed in walk
+    // order by close_gap_from) plus the closing edge.
+    const P2 &last = chain_p2_.back(), &first = chain_p2_.front();
+    const double area2 = chain_area2_ + (last.x() * first.y() - last.y() * first.x());
     if (area2 >= -kEps) return false;
     // Simple: no two non-adjacent polygon edges cross.
     for (std::size_t i = 0; i < m; ++i)
@@ -460,7 +461,6 @@ private:
       fs_.add(t[0], t[1], t[2], scan_);
       ++touched_;
     }
-    next_generation();  // the border changed: forget the memoised next_border() values
     return true;
   }
   /// A fill face of a closed loop only has to be counter-clockwise in v's tangent plane (checked by the caller): the
@@ -519,15 +519,22 @@ private:
   std::vector<Vert2> verts_;
   std::vector<int> side_;                     ///< side_class of one orientation test per verts_ entry.
   std::vector<std::uint32_t> corner_;        ///< verts_ index of corner k of faces_[i] at 3 i + k.
-  /// Per vertex: generation of its mark and the marked value — the verts_ index (collect_local_faces, fan) or the
-  /// memoised next_border() (close_gaps). A vertex is marked iff mark_[v] == gen_.
+  /// Per vertex: generation of its mark and the marked value, the verts_ index (collect_local_faces, fan). A vertex
+  /// is marked iff mark_[v] == gen_.
   std::vector<std::uint32_t> mark_, slot_;
   std::uint32_t gen_ = 0;
+  struct BorderMemo {
+    VertexId next = kNoVertex;  ///< next_border() of the vertex
+    std::uint32_t version = 0;  ///< FaceStore::version() it was computed at
+    bool valid = false;
+  };
+  std::vector<BorderMemo> border_;  ///< per vertex
   std::vector<FanCandidate> vis_;
   std::vector<std::uint32_t> new_faces_;
   std::vector<VertexId> chain_;
   mutable std::vector<VertexId> pred_, succ_;  ///< next_border() scratch: x's neighbours before / after it per face.
   std::vector<P2> chain_p2_;
+  double chain_area2_ = 0.0;  ///< Σ of x_i y_{i+1} − y_i x_{i+1} over the edges of chain_p2_, in order.
   std::vector<std::uint32_t> ring_;
   std::vector<std::array<VertexId, 3>> ears_;
 };
