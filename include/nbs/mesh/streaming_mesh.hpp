@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <numbers>
 #include <span>
 #include <vector>
@@ -184,7 +185,7 @@ public:
     return sizeof(*this) + pos_.capacity() * sizeof(Vec3) + nrm_.capacity() * sizeof(Vec3) +
            los_.capacity() * sizeof(Eigen::Vector3f) + count_.capacity() * sizeof(std::uint32_t) +
            attempt_.capacity() * sizeof(std::uint32_t) + faces_.memory_bytes() + grid_.memory_bytes() +
-           tri_.memory_bytes();
+           tri_.memory_bytes() + cached_of_.capacity() * sizeof(std::uint32_t) + cached_bytes();
   }
 
 private:
@@ -209,6 +210,59 @@ private:
       last_close_ = id;
       return true;
     });
+  }
+  /// First ball of a pending vertex, kept equal to what gather(position, first_ball_radius()) would return: entries
+  /// in gather()'s order (ascending cell key, then id, which is insertion order); each new point within the radius is
+  /// inserted at its place. Saves the gather when the vertex is retried.
+  struct CachedEntry {
+    std::uint64_t key;  ///< SpatialHash::cell_key of the point.
+    double d2;
+    VertexId id;
+  };
+  static constexpr std::size_t kMaxCachedBalls = 4096;  ///< beyond this all cached balls are dropped (memory bound).
+  [[nodiscard]] std::vector<CachedEntry>* cached_ball(VertexId v) {
+    return cached_of_[v] == 0 ? nullptr : &cached_[cached_of_[v] - 1];
+  }
+  /// Caches `ball_` (v's first ball, as gathered) for the pending vertex v.
+  void cache_ball(VertexId v) {
+    if (live_cached_ >= kMaxCachedBalls) {
+      for (VertexId o : cached_owner_)
+        if (o != kNoVertex) cached_of_[o] = 0;
+      std::fill(cached_owner_.begin(), cached_owner_.end(), kNoVertex);
+      free_cached_.clear();
+      for (std::uint32_t i = static_cast<std::uint32_t>(cached_.size()); i-- > 0;) free_cached_.push_back(i);
+      live_cached_ = 0;
+    }
+    std::uint32_t slot;
+    if (free_cached_.empty()) {
+      slot = static_cast<std::uint32_t>(cached_.size());
+      cached_.emplace_back();
+      cached_owner_.push_back(kNoVertex);
+    } else {
+      slot = free_cached_.back();
+      free_cached_.pop_back();
+    }
+    std::vector<CachedEntry>& c = cached_[slot];
+    c.clear();
+    for (const auto& [d2, q] : ball_) c.push_back({grid_.cell_key(pos_[q]), d2, q});
+    cached_of_[v] = slot + 1;
+    cached_owner_[slot] = v;
+    ++live_cached_;
+  }
+  void uncache_ball(VertexId v) {
+    if (cached_of_[v] == 0) return;
+    const std::uint32_t slot = cached_of_[v] - 1;
+    cached_[slot].clear();
+    cached_owner_[slot] = kNoVertex;
+    free_cached_.push_back(slot);
+    cached_of_[v] = 0;
+    --live_cached_;
+  }
+  [[nodiscard]] std::size_t cached_bytes() const {
+    std::size_t b = cached_.capacity() * sizeof(std::vector<CachedEntry>) +
+                    (cached_owner_.capacity() + free_cached_.capacity()) * sizeof(std::uint32_t);
+    for (const auto& c : cached_) b += c.capacity() * sizeof(CachedEntry);
+    return b;
   }
   /// Radius of the ball gathered first: min(R_n, R_m). Normals and N_act use the part within R_n (so with R_m < R_n
   /// they see only the R_m ball, as before this ball was split); triangulate() widens it to R_m when needed.
@@ -240,6 +294,11 @@ private:
   std::vector<Vec3> pts_;
   std::vector<double> wts_;
   std::vector<VertexId> meshed_nb_, retry_;
+  std::vector<std::uint32_t> cached_of_;          ///< per vertex: 1 + slot in cached_, 0 = no cached ball.
+  std::vector<std::vector<CachedEntry>> cached_;  ///< cached first balls of pending vertices (slots reused).
+  std::vector<VertexId> cached_owner_;            ///< vertex of each slot, kNoVertex if free.
+  std::vector<std::uint32_t> free_cached_;
+  std::size_t live_cached_ = 0;
 };
 
 // ---- implementation ------------------------------------------------------------------------------------------------
@@ -265,6 +324,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   los_.push_back((line_of_sight / los_norm).cast<float>());
   count_.push_back(1);
   attempt_.push_back(0);
+  cached_of_.push_back(0);
   faces_.add_vertex();
   grid_.insert(p, v);
   ++stats_.stored;
@@ -273,7 +333,13 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
   std::vector<VertexId>& retry = retry_;
   retry.clear();
+  const std::uint64_t key = grid_.cell_key(p);
   for (const auto& [d2, q] : ball_) {
+    if (std::vector<CachedEntry>* c = cached_ball(q)) {  // v joins q's ball after the entries of cells <= v's cell
+      auto at = c->end();
+      while (at != c->begin() && std::prev(at)->key > key) --at;
+      c->insert(at, CachedEntry{key, d2, v});
+    }
     if (d2 > rn2) continue;
     ++count_[v];
     ++count_[q];
@@ -285,11 +351,23 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   if (estimate(v)) {
     triangulate(v);
     result = InsertResult::meshed;
+  } else {
+    cache_ball(v);
   }
   // Pending neighbours got a new point: retry them, each with its own ball.
   for (VertexId q : retry_) {
-    gather(pos_[q], first_ball_radius(), q, ball_);
-    if (estimate(q)) triangulate(q);
+    if (const std::vector<CachedEntry>* c = cached_ball(q)) {
+      ball_.clear();
+      for (const CachedEntry& e : *c) ball_.emplace_back(e.d2, e.id);
+    } else {
+      gather(pos_[q], first_ball_radius(), q, ball_);
+    }
+    if (estimate(q)) {
+      uncache_ball(q);
+      triangulate(q);
+    } else if (cached_of_[q] == 0) {
+      cache_ball(q);
+    }
   }
   return result;
 }

@@ -35,8 +35,12 @@ public:
     buckets_[slot.bucket].push_back({p, id});
   }
 
+  /// Key of the cell of `p`; keys grow with the cells' (x, y, z) in lexicographic order.
+  [[nodiscard]] std::uint64_t cell_key(const Vec3& p) const { return key_of(cell_of(p)); }
+
   /// Calls `f(id, position)` for every stored point whose cell intersects the ball of radius `r` around `p` (cells
-  /// are visited in x, y, z order, points of a cell in insertion order). The caller filters by exact distance.
+  /// are visited in x, y, z order, i.e. by ascending cell_key(), points of a cell in insertion order). The caller
+  /// filters by exact distance.
   template <class F>
   void for_each_candidate(const Vec3& p, double r, F&& f) const {
     const Eigen::Vector3i lo = cell_of(p - Vec3::Constant(r));
