@@ -219,6 +219,26 @@ private:
     double d2;
     VertexId id;
   };
+  /// Weighted moments of a cached ball's points within R_n, relative to the vertex (centre included): Σw, Σw d,
+  /// Σw d dᵀ (lower triangle). One-pass, so only good for a clear verdict (clearly_not_robust with a 1e-4 margin).
+  struct BallMoments {
+    double w = 0.0;
+    Vec3 wd = Vec3::Zero();
+    Mat3 wdd = Mat3::Zero();
+    void add(const Vec3& d, double weight) {
+      w += weight;
+      wd += weight * d;
+      for (int j = 0; j < 3; ++j)
+        for (int i = j; i < 3; ++i) wdd(i, j) += weight * d(i) * d(j);
+    }
+    [[nodiscard]] Mat3 covariance() const {
+      const Vec3 mean = wd / w;
+      Mat3 c = Mat3::Zero();
+      for (int j = 0; j < 3; ++j)
+        for (int i = j; i < 3; ++i) c(i, j) = wdd(i, j) / w - mean(i) * mean(j);
+      return c;
+    }
+  };
   static constexpr std::size_t kMaxCachedBalls = 4096;  ///< beyond this all cached balls are dropped (memory bound).
   [[nodiscard]] std::vector<CachedEntry>* cached_ball(VertexId v) {
     return cached_of_[v] == 0 ? nullptr : &cached_[cached_of_[v] - 1];
@@ -237,6 +257,7 @@ private:
     if (free_cached_.empty()) {
       slot = static_cast<std::uint32_t>(cached_.size());
       cached_.emplace_back();
+      cached_mom_.emplace_back();
       cached_owner_.push_back(kNoVertex);
     } else {
       slot = free_cached_.back();
@@ -244,7 +265,14 @@ private:
     }
     std::vector<CachedEntry>& c = cached_[slot];
     c.clear();
-    for (const auto& [d2, q] : ball_) c.push_back({grid_.cell_key(pos_[q]), d2, q});
+    BallMoments& m = cached_mom_[slot];
+    m = {};
+    const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
+    m.add(Vec3::Zero(), detail::pca_weight(0.0, 1.0 / rn2));
+    for (const auto& [d2, q] : ball_) {
+      c.push_back({grid_.cell_key(pos_[q]), d2, q});
+      if (d2 <= rn2) m.add(pos_[q] - pos_[v], detail::pca_weight(d2, 1.0 / rn2));
+    }
     cached_of_[v] = slot + 1;
     cached_owner_[slot] = v;
     ++live_cached_;
@@ -259,7 +287,7 @@ private:
     --live_cached_;
   }
   [[nodiscard]] std::size_t cached_bytes() const {
-    std::size_t b = cached_.capacity() * sizeof(std::vector<CachedEntry>) +
+    std::size_t b = cached_.capacity() * sizeof(std::vector<CachedEntry>) + cached_mom_.capacity() * sizeof(BallMoments) +
                     (cached_owner_.capacity() + free_cached_.capacity()) * sizeof(std::uint32_t);
     for (const auto& c : cached_) b += c.capacity() * sizeof(CachedEntry);
     return b;
@@ -296,6 +324,7 @@ private:
   std::vector<VertexId> meshed_nb_, retry_;
   std::vector<std::uint32_t> cached_of_;          ///< per vertex: 1 + slot in cached_, 0 = no cached ball.
   std::vector<std::vector<CachedEntry>> cached_;  ///< cached first balls of pending vertices (slots reused).
+  std::vector<BallMoments> cached_mom_;           ///< moments of each cached ball.
   std::vector<VertexId> cached_owner_;            ///< vertex of each slot, kNoVertex if free.
   std::vector<std::uint32_t> free_cached_;
   std::size_t live_cached_ = 0;
@@ -339,6 +368,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
       auto at = c->end();
       while (at != c->begin() && std::prev(at)->key > key) --at;
       c->insert(at, CachedEntry{key, d2, v});
+      if (d2 <= rn2) cached_mom_[cached_of_[q] - 1].add(p - pos_[q], detail::pca_weight(d2, 1.0 / rn2));
     }
     if (d2 > rn2) continue;
     ++count_[v];
@@ -357,6 +387,12 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   // Pending neighbours got a new point: retry them, each with its own ball.
   for (VertexId q : retry_) {
     if (const std::vector<CachedEntry>* c = cached_ball(q)) {
+      // A clear failure by the moments is one of estimate() too (its verdict, with its bookkeeping).
+      if (detail::clearly_not_robust(cached_mom_[cached_of_[q] - 1].covariance(), settings_.robustness, 1e-4)) {
+        ++stats_.normal_failures;
+        attempt_[q] = count_[q];
+        continue;
+      }
       ball_.clear();
       for (const CachedEntry& e : *c) ball_.emplace_back(e.d2, e.id);
     } else {
