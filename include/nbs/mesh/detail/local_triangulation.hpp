@@ -98,9 +98,10 @@ private:
   }
   /// True if segments ab and cd cross at a point interior to both (touching/collinear does not count).
   [[nodiscard]] static bool cross(const P2& a, const P2& b, const P2& c, const P2& d) {
-    const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a), d4 = orient(c, d, b);
-    return ((d1 > kEps && d2 < -kEps) || (d1 < -kEps && d2 > kEps)) &&
-           ((d3 > kEps && d4 < -kEps) || (d3 < -kEps && d4 > kEps));
+    const double d1 = orient(a, b, c), d2 = orient(a, b, d);
+    if (!((d1 > kEps && d2 < -kEps) || (d1 < -kEps && d2 > kEps))) return false;
+    const double d3 = orient(c, d, a), d4 = orient(c, d, b);
+    return (d3 > kEps && d4 < -kEps) || (d3 < -kEps && d4 > kEps);
   }
   /// > 0 if d is strictly inside the circumcircle of the counter-clockwise triangle abc.
   [[nodiscard]] static double incircle(const P2& a, const P2& b, const P2& c, const P2& d) {
@@ -229,13 +230,20 @@ private:
       side_.resize(verts_.size());
       for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(o, pq, verts_[j].p2));
       bool blocked = false;
-      for (const auto& e : edges_) {
-        // cross(o, pq, pa, pb): d1 = side_[ia], d2 = side_[ib], d3 = side_o, d4 = orient(pa, pb, pq). An edge at q
-        // has orient(o, pq, pq) = 0 exactly at that end, so it never counts (the old explicit skip).
-        if (side_[e.ia] * side_[e.ib] < 0 &&
-            e.side_o * side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, pq)) < 0) {
-          blocked = true;
-          break;
+      // Only the face edges exist yet (3 per face, edges_[3 i + k]); a face whose corners all lie on one side (or on
+      // the line) of o→pq has no straddling edge, so its three edges are skipped at once.
+      for (std::size_t i = 0; i < faces_.size() && !blocked; ++i) {
+        const int s0 = side_[corner_[3 * i]], s1 = side_[corner_[3 * i + 1]], s2 = side_[corner_[3 * i + 2]];
+        if (s0 * s1 >= 0 && s1 * s2 >= 0 && s2 * s0 >= 0) continue;
+        for (std::size_t k = 3 * i; k < 3 * i + 3; ++k) {
+          const Edge2& e = edges_[k];
+          // cross(o, pq, pa, pb): d1 = side_[ia], d2 = side_[ib], d3 = side_o, d4 = orient(pa, pb, pq). An edge at q
+          // has orient(o, pq, pq) = 0 exactly at that end, so it never counts (the old explicit skip).
+          if (side_[e.ia] * side_[e.ib] < 0 &&
+              e.side_o * side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, pq)) < 0) {
+            blocked = true;
+            break;
+          }
         }
       }
       if (!blocked) vis_.push_back({q, std::atan2(pq.y(), pq.x()), pq});
@@ -401,11 +409,18 @@ private:
         if (i == 0 && j == m - 1) continue;
         if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[(j + 1) % m])) return false;
       }
-    // No other local vertex inside (winding number in projection).
+    // No other local vertex inside (winding number in projection; zero for a point below or on/above the polygon's
+    // y range, where no edge passes the crossing conditions).
+    double min_y = chain_p2_[0].y(), max_y = min_y;
+    for (const P2& c : chain_p2_) {
+      min_y = std::min(min_y, c.y());
+      max_y = std::max(max_y, c.y());
+    }
     for (std::size_t iq = 0; iq < local_.size(); ++iq) {
+      const P2& pq = local_p2_[iq];
+      if (pq.y() < min_y || pq.y() >= max_y) continue;
       const VertexId q = local_[iq];
       if (std::find(chain_.begin(), chain_.end(), q) != chain_.end()) continue;
-      const P2& pq = local_p2_[iq];
       int wind = 0;
       for (std::size_t i = 0; i < m; ++i) {
         const P2& a = chain_p2_[i];
