@@ -154,7 +154,10 @@ private:
       const P2& pc = verts_[corner_[3 * i + 2]].p2;
       const double area = orient(pa, pb, pc);
       if (area <= kEps) continue;
-      const std::array<double, 3> bary{orient(pb, pc, o) / area, orient(pc, pa, o) / area, orient(pa, pb, o) / area};
+      // An orientation below −1e-200 makes its barycentric coordinate negative (no underflow for areas below 1e100).
+      const double oa = orient(pb, pc, o), ob = orient(pc, pa, o), oc = orient(pa, pb, o);
+      if (oa < -1e-200 || ob < -1e-200 || oc < -1e-200) continue;
+      const std::array<double, 3> bary{oa / area, ob / area, oc / area};
       if (*std::min_element(bary.begin(), bary.end()) < 0.0) continue;
       if (!normal_agrees(a, b, c)) continue;
       const Vec3 fn = face_normal(a, b, c).normalized();
@@ -407,7 +410,7 @@ private:
     for (std::size_t i = 0; i < m; ++i)
       for (std::size_t j = i + 2; j < m; ++j) {
         if (i == 0 && j == m - 1) continue;
-        if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[(j + 1) % m])) return false;
+        if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[j + 1 == m ? 0 : j + 1])) return false;
       }
     // No other local vertex inside (winding number in projection; zero for a point below or on/above the polygon's
     // y range, where no edge passes the crossing conditions).
@@ -424,7 +427,7 @@ private:
       int wind = 0;
       for (std::size_t i = 0; i < m; ++i) {
         const P2& a = chain_p2_[i];
-        const P2& b = chain_p2_[(i + 1) % m];
+        const P2& b = chain_p2_[i + 1 == m ? 0 : i + 1];
         if (a.y() <= pq.y()) {
           if (b.y() > pq.y() && orient(a, b, pq) > 0.0) ++wind;
         } else if (b.y() <= pq.y() && orient(a, b, pq) < 0.0) {
@@ -442,8 +445,8 @@ private:
       std::size_t best = ring_.size();
       double best_len = r2;
       for (std::size_t i = 0; i < ring_.size(); ++i) {
-        const std::uint32_t ia = ring_[(i + ring_.size() - 1) % ring_.size()], ib = ring_[i],
-                            ic = ring_[(i + 1) % ring_.size()];
+        const std::size_t n = ring_.size();
+        const std::uint32_t ia = ring_[i == 0 ? n - 1 : i - 1], ib = ring_[i], ic = ring_[i + 1 == n ? 0 : i + 1];
         const P2 &pa = chain_p2_[ia], &pb = chain_p2_[ib], &pc = chain_p2_[ic];
         if (orient(pa, pb, pc) <= kEps) continue;
         const double len = (pos_[chain_[ia]] - pos_[chain_[ic]]).squaredNorm();
