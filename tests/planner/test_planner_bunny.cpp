@@ -66,10 +66,9 @@ TEST_CASE("bunny loop: same seed gives the same scan sequence with 1 and 2 threa
   }
 }
 
-// Known shortfall (see docs/architecture.md, planner): the StreamingMesh leaves thousands of small gaps and
-// overlapping layers on the bunny (A_filled ≈ 2.4 × the true area, ~10^4 holes after 8 scans), so ĉ_m (Eq. 4.35)
-// stalls near 0.62–0.65 while the ground-truth c_a passes 0.88. Marked mayfail until the mesh is fixed; the
-// assertion stays. Under ASan the loop is cut to 6 scans (time), which cannot reach 0.8 either.
+// Release passes now (a89d3f4, 2 threads): seed 1 stops at ĉ_m 0.804 after 14 scans; seeds 2 and 3 (bench_planner
+// NBS_BENCH_SEED) reach 0.801 after 13 and 0.808 after 16. Still mayfail: under ASan the loop is cut to 6 scans
+// (time), which cannot reach 0.8. The assertion stays.
 TEST_CASE("bunny loop: C_H reaches estimated coverage 0.8 within 30 scans", "[planner][bunny][slow][!mayfail]") {
   const nbs::embree::SimulatedScanner scanner(bunny().mesh);
   nbs::PlannerSetting setting;
