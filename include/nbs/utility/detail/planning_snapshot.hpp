@@ -112,8 +112,9 @@ public:
   /// Casts a clipped segment (clip(ray).inside): visit(key, const VoxelClass&, box index) for each voxel in order
   /// until the first occupied one (hit) or until visit returns false. The DDA visits keys monotonically per axis
   /// from the start key to the end key, so every key lies in the box.
+  /// `gnu::flatten` inlines the walker's step() and `visit` into the loop (GCC otherwise may call step() per voxel).
   template <class Visit>
-  RaycastResult cast(const Clipped& c, Visit&& visit) const {
+  [[gnu::flatten]] RaycastResult cast(const Clipped& c, Visit&& visit) const {
     RaycastResult res;
     SegmentWalker w(c.a, c.b);
     std::size_t idx = index(w.key());
