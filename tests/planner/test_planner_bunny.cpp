@@ -66,10 +66,14 @@ TEST_CASE("bunny loop: same seed gives the same scan sequence with 1 and 2 threa
   }
 }
 
-// Release passes now (a89d3f4, 2 threads): seed 1 stops at ĉ_m 0.804 after 14 scans; seeds 2 and 3 (bench_planner
-// NBS_BENCH_SEED) reach 0.801 after 13 and 0.808 after 16. Still mayfail: under ASan the loop is cut to 6 scans
-// (time), which cannot reach 0.8. The assertion stays.
-TEST_CASE("bunny loop: C_H reaches estimated coverage 0.8 within 30 scans", "[planner][bunny][slow][!mayfail]") {
+// The acceptance target of issue 5. Release (2 threads): seed 1 stops at ĉ_m 0.804 after 14 scans; seeds 2 and 3
+// (bench_planner NBS_BENCH_SEED) reach 0.801 after 13 and 0.808 after 16. Under ASan + UBSan the same loop runs six
+// scans only (time), which checks memory safety, not the target.
+#if defined(__SANITIZE_ADDRESS__)
+TEST_CASE("bunny loop (sanitizers): six C_H scans run and raise the estimated coverage", "[planner][bunny][slow]") {
+#else
+TEST_CASE("bunny loop: C_H reaches estimated coverage 0.8 within 30 scans", "[planner][bunny][slow]") {
+#endif
   const nbs::embree::SimulatedScanner scanner(bunny().mesh);
   nbs::PlannerSetting setting;
   setting.threads = 2;
@@ -87,6 +91,11 @@ TEST_CASE("bunny loop: C_H reaches estimated coverage 0.8 within 30 scans", "[pl
   for (const auto& r : res.records) best = std::max(best, r.integration.estimated_coverage);
   INFO("scans " << res.records.size() << ", final c_m " << res.records.back().integration.estimated_coverage
                 << ", d_m " << res.records.back().integration.mean_density << ", stop " << int(res.stop));
+#if defined(__SANITIZE_ADDRESS__)
+  CHECK(res.records.size() == 6);
+  CHECK(best > res.records.front().integration.estimated_coverage);
+#else
   CHECK(res.records.size() <= 30);
   CHECK(best >= 0.8);
+#endif
 }
