@@ -111,20 +111,6 @@ void insert_nbs(Space& s, int n_scans) {
   for (int i = 0; i < n_scans; ++i) (void)s.integrate(fixture().scans[i]);
 }
 
-double seconds(const std::function<void()>& fn) {
-  const auto t0 = std::chrono::steady_clock::now();
-  fn();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Best-of-reps times of several alternating candidates.
-std::vector<double> best_times(int reps, const std::vector<std::function<void()>>& fns) {
-  std::vector<double> best(fns.size(), 1e300);
-  for (int r = 0; r < reps; ++r)
-    for (std::size_t i = 0; i < fns.size(); ++i) best[i] = std::min(best[i], seconds(fns[i]));
-  return best;
-}
-
 // ---- Google Benchmark cases (throughput tables) ----------------------------------------------------------------
 void BM_InsertThesis(benchmark::State& state) {
   const double res = state.range(0) * 1e-3;
@@ -184,7 +170,7 @@ void headlines() {
 
   for (const auto& [mm, n] : std::vector<std::pair<int, int>>{{5, 6}, {2, 3}, {1, 1}}) {
     const double res = mm * 1e-3;
-    const auto t = best_times(reps, {[&] {
+    const auto t = nbs::bench::best_times(reps, {[&] {
                                        nbs::ProbabilisticVoxelSpace<> s(res, f.box, f.thesis_model());
                                        insert_nbs(s, n);
                                      },
@@ -209,7 +195,7 @@ void headlines() {
                 s.memory_bytes() * 1e-6, nbs::observed_count(s.backend()), tree.memoryUsage() * 1e-6, tree.size());
     nbs::bench::report_headline("space.memory_vs_octomap@2mm", double(s.memory_bytes()) / double(tree.memoryUsage()),
                                 "target <= 0.5");
-    const auto t = best_times(reps, {[&] {
+    const auto t = nbs::bench::best_times(reps, {[&] {
                                        nbs::ProbabilisticVoxelSpace<> a(0.002, f.box, f.thesis_model());
                                        insert_nbs(a, 6);
                                      },
@@ -273,7 +259,7 @@ void headlines() {
       }
       benchmark::DoNotOptimize(unknown.data());
     };
-    const auto t = best_times(reps, {[&] { cast_nbs(1); }, cast_octomap, [&] { cast_nbs(2); }});
+    const auto t = nbs::bench::best_times(reps, {[&] { cast_nbs(1); }, cast_octomap, [&] { cast_nbs(2); }});
     std::printf("space: raycast: %zu rays; nbs %.2f M rays/s (%zu voxels, %zu hits), OctoMap %.3f M rays/s (%zu voxels, %zu hits)\n",
                 rays.size(), rays.size() / t[0] * 1e-6, nbs_voxels, nbs_hits, rays.size() / t[1] * 1e-6, octo_voxels,
                 octo_hits);

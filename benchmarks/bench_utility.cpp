@@ -109,19 +109,6 @@ nbs::EvaluationResult evaluate(const std::vector<nbs::LinearScanPath>& c, nbs::R
   return nbs::evaluate_candidates(c, f.sensor, *f.space, f.term(omega), nbs::EvaluationSetting{threads, s});
 }
 
-double seconds(const std::function<void()>& fn) {
-  const auto t0 = std::chrono::steady_clock::now();
-  fn();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::vector<double> best_times(int reps, const std::vector<std::function<void()>>& fns) {
-  std::vector<double> best(fns.size(), 1e300);
-  for (int r = 0; r < reps; ++r)
-    for (std::size_t i = 0; i < fns.size(); ++i) best[i] = std::min(best[i], seconds(fns[i]));
-  return best;
-}
-
 std::uint64_t sum(const std::vector<std::uint64_t>& v) { return std::accumulate(v.begin(), v.end(), std::uint64_t{0}); }
 
 // Kendall's tau-b between two value vectors.
@@ -190,8 +177,8 @@ void headlines() {
   const int reps = nbs::bench::quick_mode() ? 2 : 5;
   {  // per candidate, 1 thread, default sampling and every ray
     nbs::EvaluationResult r, full;
-    const auto t = best_times(reps, {[&] { r = evaluate(f.twenty, kDefault, 1); }});
-    const auto tf = best_times(1, {[&] { full = evaluate(std::vector<nbs::LinearScanPath>(f.twenty.begin(), f.twenty.begin() + 4), {1, 1}, 1); }});
+    const auto t = nbs::bench::best_times(reps, {[&] { r = evaluate(f.twenty, kDefault, 1); }});
+    const auto tf = nbs::bench::best_times(1, {[&] { full = evaluate(std::vector<nbs::LinearScanPath>(f.twenty.begin(), f.twenty.begin() + 4), {1, 1}, 1); }});
     const double visits = double(sum(r.voxels));
     std::printf("utility: 20 candidates, sampling {%zu, %zu}: %.1f ms, %llu rays, %.0f visits\n",
                 kDefault.profile_stride, kDefault.ray_stride, t[0] * 1e3, (unsigned long long)sum(r.rays), visits);
@@ -201,7 +188,7 @@ void headlines() {
     std::printf("utility: full sampling: %.0f visits per candidate\n", double(sum(full.voxels)) / 4);
   }
   {  // thread scaling
-    const auto t = best_times(reps, {[&] { (void)evaluate(f.twenty, kDefault, 1); },
+    const auto t = nbs::bench::best_times(reps, {[&] { (void)evaluate(f.twenty, kDefault, 1); },
                                      [&] { (void)evaluate(f.twenty, kDefault, 2); }});
     nbs::bench::report_headline("utility.eval_2thread_scaling", t[0] / t[1], "20 candidates");
   }
@@ -209,14 +196,14 @@ void headlines() {
     std::vector<nbs::Ray> rays;
     for (const auto& p : f.twenty) nbs::append_candidate_rays(p, f.sensor, kDefault, rays);
     std::uint64_t bare = 0;
-    const auto t = best_times(reps, {[&] { (void)evaluate(f.twenty, kDefault, 1); },
+    const auto t = nbs::bench::best_times(reps, {[&] { (void)evaluate(f.twenty, kDefault, 1); },
                                      [&] { bare = bare_cast(*f.space, rays); }});
     std::printf("utility: bare cast_ray %.1f ms for %llu visits (%.2f ns per visit)\n", t[1] * 1e3,
                 (unsigned long long)bare, t[1] / double(bare) * 1e9);
     nbs::bench::report_headline("utility.eval_vs_bare_raycast", t[0] / t[1], "evaluation time / bare cast_ray loop");
   }
   {  // one planning step
-    const auto t = best_times(reps, {[&] { (void)evaluate(f.forty, kDefault, 2); }});
+    const auto t = nbs::bench::best_times(reps, {[&] { (void)evaluate(f.forty, kDefault, 2); }});
     nbs::bench::report_headline("utility.planning_step_s@2threads", t[0], "40 candidates, target <= 0.05");
   }
   if (std::getenv("NBS_BENCH_RANKING") != nullptr) ranking_study();

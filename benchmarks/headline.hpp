@@ -7,10 +7,15 @@
 /// headline figure (usually a ratio nbs ÷ incumbent). scripts/bench.sh collects the lines `HEADLINE name: value`
 /// from stdout, prints them as `name: value` and writes the table to docs/performance.md.
 /// `quick_mode()` is true when bench.sh runs with --quick (environment NBS_BENCH_QUICK=1): use fewer repetitions.
+/// `best_times` is the side-by-side timing the headline ratios use.
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <string_view>
+#include <vector>
 
 namespace nbs::bench {
 
@@ -25,6 +30,22 @@ inline void report_headline(std::string_view name, double value, std::string_vie
   if (!note.empty()) std::printf("  (%.*s)", static_cast<int>(note.size()), note.data());
   std::printf("\n");
   std::fflush(stdout);
+}
+
+/// Wall-clock seconds of one call of fn (steady clock).
+inline double seconds(const std::function<void()>& fn) {
+  const auto t0 = std::chrono::steady_clock::now();
+  fn();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Best (smallest) time of each of `fns` over `reps` rounds; within a round the candidates run in turn, so a
+/// change in machine load affects them alike.
+inline std::vector<double> best_times(int reps, const std::vector<std::function<void()>>& fns) {
+  std::vector<double> best(fns.size(), 1e300);
+  for (int r = 0; r < reps; ++r)
+    for (std::size_t i = 0; i < fns.size(); ++i) best[i] = std::min(best[i], seconds(fns[i]));
+  return best;
 }
 
 }  // namespace nbs::bench
