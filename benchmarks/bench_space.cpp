@@ -112,19 +112,28 @@ void insert_nbs(Space& s, int n_scans) {
 }
 
 // ---- Google Benchmark cases (throughput tables) ----------------------------------------------------------------
-void BM_InsertThesis(benchmark::State& state) {
+// Scans inserted at resolution `res`: the headline's counts (6 at 5 mm, 3 at 2 mm, 1 at 1 mm).
+int scans_at(double res) { return res < 0.0015 ? 1 : (res < 0.003 ? 3 : 6); }
+template <class Make>
+void bm_insert_native(benchmark::State& state, Make&& make) {
   const double res = state.range(0) * 1e-3;
-  const int n = res < 0.0015 ? 1 : (res < 0.003 ? 3 : 6);
+  const int n = scans_at(res);
   for (auto _ : state) {
-    nbs::ProbabilisticVoxelSpace<> s(res, fixture().box, fixture().thesis_model());
+    auto s = make(res);
     insert_nbs(s, n);
     benchmark::DoNotOptimize(s.totals().voxel_updates);
   }
   state.counters["rays_per_s"] = benchmark::Counter(double(fixture().rays(n)), benchmark::Counter::kIsIterationInvariantRate);
 }
+void BM_InsertThesis(benchmark::State& state) {
+  bm_insert_native(state, [](double res) { return nbs::ProbabilisticVoxelSpace<>(res, fixture().box, fixture().thesis_model()); });
+}
+void BM_InsertLogOdds(benchmark::State& state) {
+  bm_insert_native(state, [](double res) { return LogOddsSpace(res, fixture().box); });
+}
 void BM_InsertOctomap(benchmark::State& state) {
   const double res = state.range(0) * 1e-3;
-  const int n = res < 0.0015 ? 1 : (res < 0.003 ? 3 : 6);
+  const int n = scans_at(res);
   for (auto _ : state) {
     auto t = make_tree(res, fixture().box);
     insert_octomap(t, n);
@@ -133,6 +142,7 @@ void BM_InsertOctomap(benchmark::State& state) {
   state.counters["rays_per_s"] = benchmark::Counter(double(fixture().rays(n)), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_InsertThesis)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_InsertLogOdds)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InsertOctomap)->Arg(5)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // FNV-1a over (key, state) of every observed voxel in key order: identical spaces give identical checksums, so an

@@ -121,6 +121,9 @@ TEST_CASE("flush to disk and reload is exact, also after further updates", "[spa
   REQUIRE(backend.flush_stats().blocks_reloaded > 0);
   REQUIRE(backend.flushed_block_count() > 0);  // blocks the later scans did not write stay on disk
   REQUIRE(states_of(flushed) == states_of(reference));
+  // Resident and flushed blocks mixed: ray casts (whose per-thread reader caches resident blocks only) still agree.
+  REQUIRE(backend.resident_block_count() > 0);
+  REQUIRE(cast_all(flushed, rays, 2) == cast_all(reference, rays, 1));
   backend.reload_all();
   REQUIRE(backend.flushed_block_count() == 0);
   REQUIRE(states_of(flushed) == states_of(reference));

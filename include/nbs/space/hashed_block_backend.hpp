@@ -203,6 +203,41 @@ public:
     read_block(id, *scratch);
     return scratch.get();
   }
+  /// Read-only block lookups for one thread's walks: find_block behind a direct-mapped cache of 2^CacheBits recent
+  /// ids (resident blocks and ids without a block; a flushed block read into the reader's scratch is not cached).
+  /// Valid while the backend is not modified. Not thread-safe: one reader per thread; several may read one backend
+  /// concurrently. Reader (256 slots, 4 KiB) serves many rays; a single ray, which seldom revisits a block, takes
+  /// BasicReader<0>.
+  template <int CacheBits>
+  class BasicReader {
+  public:
+    using Backend = HashedBlockBackend;
+    explicit BasicReader(const HashedBlockBackend& be) : be_(&be) {}
+    /// find_block(id): the block, or nullptr if it was never allocated. A flushed block stays valid until the next
+    /// find of another flushed block. Throws FileError if a flushed block cannot be read.
+    [[nodiscard]] const Block* find(std::uint64_t id) {
+      Slot& s = slots_[kBits == 0 ? 0 : (id * 0x9E3779B97F4A7C15ull) >> ((64 - kBits) & 63)];
+      if (s.id == id) return s.block;
+      return find_slow(id, s);
+    }
+
+  private:
+    static constexpr int kBits = CacheBits;
+    static_assert(kBits >= 0 && kBits <= 16);
+    struct Slot {
+      std::uint64_t id = ~std::uint64_t{0};  // never a packed key (those use 63 bits)
+      const Block* block = nullptr;
+    };
+    const Block* find_slow(std::uint64_t id, Slot& s) {
+      const Block* b = be_->find_block(id, scratch_);
+      if (b == nullptr || b != scratch_.get()) s = {id, b};
+      return b;
+    }
+    const HashedBlockBackend* be_;
+    std::array<Slot, std::size_t{1} << kBits> slots_{};
+    std::unique_ptr<Block> scratch_;
+  };
+  using Reader = BasicReader<8>;
   /// The block with id `id` for writing, allocated (all voxels unknown) if absent and reloaded if flushed. Its
   /// touched mask belongs to the current epoch. A direct-mapped cache of recently used blocks sits in front of the
   /// hash map; it is cleared by next_epoch() and by every flush, so the first access to a block in a scan always
@@ -219,30 +254,27 @@ public:
     const VoxelKey hi{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
     if ((std::int64_t{hi.x} - lo.x + 1) * (std::int64_t{hi.y} - lo.y + 1) * (std::int64_t{hi.z} - lo.z + 1) > 64)
       return false;
-    if (block_id(lo) == block_id(hi)) {  // one block: word z of the touched mask holds the 8×8 voxels of slab z
-      const Block* blk = epoch_block(block_id(lo));
-      if (blk == nullptr) return false;
-      constexpr int m = kEdge - 1;
-      const int x0 = lo.x & m, nx = hi.x - lo.x + 1, y0 = lo.y & m, ny = hi.y - lo.y + 1;
-      const std::uint64_t row = ((std::uint64_t{1} << nx) - 1) << x0;  // bits x0 .. x0 + nx − 1 of one y row
-      std::uint64_t mask = 0;
-      for (int y = y0; y < y0 + ny; ++y) mask |= row << (kEdge * y);
-      for (int z = lo.z & m; z <= (hi.z & m); ++z)
-        if ((touched_word(*blk, z) & mask) != mask) return false;
-      return true;
-    }
-    std::uint64_t id = ~std::uint64_t{0};
-    const Block* blk = nullptr;
-    for (std::int32_t z = lo.z; z <= hi.z; ++z)
-      for (std::int32_t y = lo.y; y <= hi.y; ++y)
-        for (std::int32_t x = lo.x; x <= hi.x; ++x) {
-          const VoxelKey k{x, y, z};
-          if (block_id(k) != id) {
-            id = block_id(k);
-            blk = epoch_block(id);
-            if (blk == nullptr) return false;
-          }
-          if (!blk->is_touched(local_index(k))) return false;
+    // The box split at block faces; each part is tested against its block's touched mask, word z of which holds the
+    // 8×8 voxels of slab z (bit x + 8·y).
+    constexpr int m = kEdge - 1;
+    for (std::int32_t bz = lo.z >> kEdgeBits; bz <= hi.z >> kEdgeBits; ++bz)
+      for (std::int32_t by = lo.y >> kEdgeBits; by <= hi.y >> kEdgeBits; ++by)
+        for (std::int32_t bx = lo.x >> kEdgeBits; bx <= hi.x >> kEdgeBits; ++bx) {
+          const Block* blk = epoch_block(VoxelKey{bx, by, bz}.pack());
+          if (blk == nullptr) return false;
+          const auto part = [](std::int32_t lo_k, std::int32_t hi_k, std::int32_t bk, int& first, int& last) {
+            first = std::max(lo_k, bk * kEdge) & m;
+            last = std::min(hi_k, bk * kEdge + m) & m;
+          };
+          int x0, x1, y0, y1, z0, z1;
+          part(lo.x, hi.x, bx, x0, x1);
+          part(lo.y, hi.y, by, y0, y1);
+          part(lo.z, hi.z, bz, z0, z1);
+          const std::uint64_t row = ((std::uint64_t{1} << (x1 - x0 + 1)) - 1) << x0;  // bits x0 .. x1 of one y row
+          std::uint64_t mask = 0;
+          for (int y = y0; y <= y1; ++y) mask |= row << (kEdge * y);
+          for (int z = z0; z <= z1; ++z)
+            if ((touched_word(*blk, z) & mask) != mask) return false;
         }
     return true;
   }

@@ -192,7 +192,8 @@ public:
   template <class Visit>
   RaycastResult cast_ray(const Ray& ray, Visit&& visit) const {
     check_ray(ray, 0);
-    return cast_ray_unchecked(ray, visit);
+    RayReader reader(backend_);
+    return cast_ray_unchecked(reader, ray, visit);
   }
   /// cast_ray for every ray, on `threads` std::threads (0 = hardware concurrency; the calling thread is one of them).
   /// Threads take chunks of kCastChunk consecutive rays from a shared counter until none is left, so uneven rays
@@ -211,13 +212,14 @@ public:
     std::vector<std::exception_ptr> errors(threads);
     const auto work = [&](unsigned t) {
       try {
+        BlockReader reader(backend_);
         for (;;) {
           const std::size_t lo = next.fetch_add(kCastChunk, std::memory_order_relaxed);
           if (lo >= rays.size()) return;
           const std::size_t hi = std::min(rays.size(), lo + kCastChunk);
           for (std::size_t i = lo; i < hi; ++i) {
             auto per_ray = [&](const VoxelKey& k, const State& s) { return visit(i, k, s); };
-            out[i] = cast_ray_unchecked(rays[i], per_ray);
+            out[i] = cast_ray_unchecked(reader, rays[i], per_ray);
           }
         }
       } catch (...) {
@@ -247,6 +249,13 @@ private:
     detail::SegmentSetup::Fixed end_fixed;  ///< end point in the walks' fixed point (voxel units · 2^10)
   };
   static constexpr bool kNative = detail::is_hashed_block_backend_v<Backend>;
+  struct NoReader {
+    explicit NoReader(const Backend&) {}
+  };
+  /// Block lookups of the planning ray casts: the native backend's cached Reader per thread of cast_rays, an uncached
+  /// one for a single cast_ray.
+  using BlockReader = typename std::conditional_t<kNative, detail::ReaderOf<Backend, 8>, std::type_identity<NoReader>>::type;
+  using RayReader = typename std::conditional_t<kNative, detail::ReaderOf<Backend, 0>, std::type_identity<NoReader>>::type;
 
   void begin_scan() {
     if constexpr (kNative) {
@@ -397,8 +406,8 @@ private:
                     r.origin.transpose(), ") end (", r.end.transpose(), ")");
   }
 
-  template <class Visit>
-  RaycastResult cast_ray_unchecked(const Ray& ray, Visit& visit) const {
+  template <class Reader, class Visit>
+  RaycastResult cast_ray_unchecked(Reader& reader, const Ray& ray, Visit& visit) const {
     RaycastResult res;
     double t0, t1;
     if (!detail::clip_segment(ray.origin, ray.end, voxel_bounds_, t0, t1)) return res;
@@ -420,10 +429,11 @@ private:
       return true;
     };
     if constexpr (kNative) {
-      detail::walk_blocks_const(backend_, a, b, [&](const typename Backend::Block* blk, int i, const VoxelKey& k) {
+      detail::walk_blocks_const(reader, a, b, [&](const typename Backend::Block* blk, int i, const VoxelKey& k) {
         return on_voxel(k, blk ? blk->get(i) : State{});
       });
     } else {
+      (void)reader;
       detail::SegmentWalker w(a, b);
       for (;;) {
         if (!on_voxel(w.key(), voxel_state(backend_, w.key()))) break;

@@ -17,6 +17,12 @@ inline constexpr bool is_hashed_block_backend_v = false;
 template <class S>
 inline constexpr bool is_hashed_block_backend_v<HashedBlockBackend<S>> = true;
 
+/// ReaderOf<B, Bits>::type is B::BasicReader<Bits> (lazily, so that std::conditional_t can name it for any backend).
+template <class B, int Bits>
+struct ReaderOf {
+  using type = typename B::template BasicReader<Bits>;
+};
+
 /// Key of voxel `i` of the block with block key `bk` (= voxel key >> kEdgeBits per axis).
 template <class S>
 [[nodiscard]] VoxelKey voxel_key_in_block(const VoxelKey& bk, int i) {
@@ -101,26 +107,41 @@ std::int64_t walk_untouched(HashedBlockBackend<S>& be, const SegmentSetup& q, bo
   return steps + (include_end ? 1 : 0);
 }
 
-/// Read-only walk from a to b (voxel units, valid keys): visit(const Block* or nullptr, index, key) for each
-/// voxel, end voxel included; stops early when visit returns false. Flushed blocks are read into a scratch block
-/// owned by the walk. Returns the number of voxels visited.
-template <class S, class Visit>
-std::uint32_t walk_blocks_const(const HashedBlockBackend<S>& be, const Vec3& a, const Vec3& b, Visit&& visit) {
-  using BE = HashedBlockBackend<S>;
-  SegmentWalker w(a, b);
-  VoxelKey k = w.key();
-  std::unique_ptr<typename BE::Block> scratch;
-  const typename BE::Block* blk = be.find_block(BE::block_id(k), scratch);
+/// The loop of walk_blocks_const over a stepper (SegmentWalker or CommonDenominatorStepper), in the manner of
+/// walk_untouched_steps: the voxel index and key follow the returned axes; the block is looked up on leaving one.
+template <class Reader, class Stepper, class Visit>
+std::uint32_t walk_blocks_const_steps(Reader& rd, Stepper st, const SegmentSetup& q, Visit& visit) {
+  using BE = typename Reader::Backend;
+  constexpr int e = BE::kEdgeBits, m = BE::kEdge - 1;
+  VoxelKey k = q.key;
+  const typename BE::Block* blk = rd.find(BE::block_id(k));
+  int i = BE::local_index(k);
   std::uint32_t n = 0;
-  for (;;) {
+  for (std::int64_t left = q.steps();; --left) {
     ++n;
-    if (!visit(blk, BE::local_index(k), k)) return n;
-    if (w.remaining() == 0) return n;
-    const int axis = w.step();
-    k = w.key();
-    if ((k[axis] & (BE::kEdge - 1)) == (w.sign(axis) > 0 ? 0 : BE::kEdge - 1))
-      blk = be.find_block(BE::block_id(k), scratch);
+    if (!visit(blk, i, k)) return n;
+    if (left == 0) return n;
+    const int axis = st.step();
+    const int s = q.sign[axis];
+    k[axis] += s;
+    const int shift = e * axis;
+    const int local = ((i >> shift) & m) + s;  // new position along `axis` inside the block
+    i += s * (1 << shift);
+    if (static_cast<unsigned>(local) > static_cast<unsigned>(m)) {
+      i -= s * (BE::kEdge << shift);  // wrap to the opposite face of the next block
+      blk = rd.find(BE::block_id(k));
+    }
   }
+}
+
+/// Read-only walk from a to b (voxel units, valid keys), the voxels of SegmentWalker(a, b) in order:
+/// visit(const Block* or nullptr, index, key) for each voxel, end voxel included; stops early when visit returns
+/// false. Blocks are looked up through `rd` (see HashedBlockBackend::Reader). Returns the number of voxels visited.
+template <class Reader, class Visit>
+std::uint32_t walk_blocks_const(Reader& rd, const Vec3& a, const Vec3& b, Visit&& visit) {
+  const SegmentSetup q(a, b);
+  if (const auto fast = CommonDenominatorStepper::make(q)) return walk_blocks_const_steps(rd, *fast, q, visit);
+  return walk_blocks_const_steps(rd, SegmentWalker(q), q, visit);
 }
 
 /// Clips the segment a → b to the closed box (Liang–Barsky). Returns false if they do not meet; otherwise sets
