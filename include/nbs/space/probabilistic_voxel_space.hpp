@@ -269,13 +269,14 @@ private:
 
   // Calls apply(State&) for voxel k unless it was already touched in this scan; writes back if updated.
   template <class Apply>
-  void visit_generic(const VoxelKey& k, IntegrationStats& st, Apply&& apply) {
+  bool visit_generic(const VoxelKey& k, IntegrationStats& st, Apply&& apply) {
     if (!touched_.insert(k.pack()).second) {
       ++st.voxels_same_scan;
-      return;
+      return false;
     }
     State s = voxel_state(backend_, k);
     count(apply(s), st, [&] { set_voxel_state(backend_, k, s); });
+    return true;
   }
   // Native path: apply(State&) to voxel i of blk unless it was already touched in this scan; writes back if updated.
   template <class Block, class Apply>
@@ -306,9 +307,9 @@ private:
   }
 
   // Walks the quantised segment q (voxel units) with apply(State&, key, is_end) → VoxelUpdate, once per voxel per
-  // scan.
+  // scan. Returns the number of voxels passed to apply (not yet updated in this scan).
   template <class Apply>
-  void walk(const detail::SegmentSetup& q, bool include_end, IntegrationStats& st, Apply&& apply) {
+  std::uint64_t walk(const detail::SegmentSetup& q, bool include_end, IntegrationStats& st, Apply&& apply) {
     if constexpr (kNative) {
       // Only voxels not yet updated in this scan reach the callback; the others are counted as voxels_same_scan.
       std::uint64_t fresh = 0;
@@ -320,14 +321,16 @@ private:
             });
           });
       st.voxels_same_scan += static_cast<std::uint64_t>(n) - fresh;
+      return fresh;
     } else {
       detail::SegmentWalker w(q);
+      std::uint64_t fresh = 0;
       for (;;) {
         const bool last = w.remaining() == 0;
-        if (last && !include_end) return;
+        if (last && !include_end) return fresh;
         const VoxelKey k = w.key();
-        visit_generic(k, st, [&](State& s) { return apply(s, k, last); });
-        if (last) return;
+        fresh += visit_generic(k, st, [&](State& s) { return apply(s, k, last); }) ? 1 : 0;
+        if (last) return fresh;
         w.step();
       }
     }
@@ -373,18 +376,23 @@ private:
                       [&](State& s) { return update(s, end_key, true); });
         return;
       }
-      // Every voxel of the key box spanned by the walk's first and last voxel was updated in this scan (the usual
-      // case: ~100 beams end in each surface voxel per scan): the walk would only count its Σ|Δkey| + 1 voxels.
-      // Consecutive beams often span the same box; the last box found fully updated is remembered for the scan.
-      if ((ks == full_band_[0] && ke == full_band_[1]) || backend_.all_touched(ks, ke)) {
-        full_band_[0] = ks;
-        full_band_[1] = ke;
+      // Consecutive beams often span the same voxels. A band walk whose first and last voxel differ along one axis
+      // only (so that they fix every voxel in between) and that met no voxel not yet updated in this scan is
+      // remembered; the next band with the same first and last voxel only counts its Σ|Δkey| + 1 voxels. (The walk
+      // skips updated voxels at one bit test each: cheaper than testing the whole key box first.)
+      if (ks == full_band_[0] && ke == full_band_[1]) {
         st.voxels_same_scan += static_cast<std::uint64_t>(std::abs(ke.x - ks.x) + std::abs(ke.y - ks.y) +
                                                           std::abs(ke.z - ks.z)) + 1;
         return;
       }
+      const int axes = (ks.x != ke.x) + (ks.y != ke.y) + (ks.z != ke.z);
+      if (walk(Q(fs, fe), true, st, update) == 0 && axes == 1) {
+        full_band_[0] = ks;
+        full_band_[1] = ke;
+      }
+    } else {
+      walk(Q(fs, fe), true, st, update);
     }
-    walk(Q(fs, fe), true, st, update);
   }
 
   void free_pass(const BeamRecord& b, IntegrationStats& st) {
@@ -452,7 +460,7 @@ private:
   SurfaceFeatureMap features_;
   IntegrationStats totals_;
   std::vector<BeamRecord> beams_;
-  VoxelKey full_band_[2];  ///< first and last key of a band walk whose key box was fully updated in this scan
+  VoxelKey full_band_[2];  ///< first and last key (one axis apart) of a band walk that met only voxels updated in this scan
   std::unordered_set<std::uint64_t> touched_;
 };
 
