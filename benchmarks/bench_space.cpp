@@ -26,6 +26,7 @@
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
+#include "nbs/octomap/insert_scan.hpp"
 #include "nbs/octomap/octree_backend.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/space/log_odds_model.hpp"
@@ -90,15 +91,6 @@ Fixture& fixture() {
   return f;
 }
 
-octomap::OcTree make_tree(double res, const nbs::Aabb& box) {
-  octomap::OcTree t(res);
-  octomap::point3d lo(float(box.min.x()), float(box.min.y()), float(box.min.z()));
-  octomap::point3d hi(float(box.max.x()), float(box.max.y()), float(box.max.z()));
-  t.setBBXMin(lo);
-  t.setBBXMax(hi);
-  t.useBBXLimit(true);
-  return t;
-}
 
 void insert_octomap(octomap::OcTree& t, int n_scans) {
   const auto& f = fixture();
@@ -135,7 +127,7 @@ void BM_InsertOctomap(benchmark::State& state) {
   const double res = state.range(0) * 1e-3;
   const int n = scans_at(res);
   for (auto _ : state) {
-    auto t = make_tree(res, fixture().box);
+    auto t = nbs::octomap::bbx_limited_octree(res, fixture().box);
     insert_octomap(t, n);
     benchmark::DoNotOptimize(t.size());
   }
@@ -185,7 +177,7 @@ void headlines() {
                                        insert_nbs(s, n);
                                      },
                                      [&] {
-                                       auto tree = make_tree(res, f.box);
+                                       auto tree = nbs::octomap::bbx_limited_octree(res, f.box);
                                        insert_octomap(tree, n);
                                      }});
     const double rays = double(f.rays(n));
@@ -199,7 +191,7 @@ void headlines() {
   {  // memory and update cost at 2 mm, all six scans
     nbs::ProbabilisticVoxelSpace<> s(0.002, f.box, f.thesis_model());
     insert_nbs(s, 6);
-    auto tree = make_tree(0.002, f.box);
+    auto tree = nbs::octomap::bbx_limited_octree(0.002, f.box);
     insert_octomap(tree, 6);
     std::printf("space: memory @2mm: nbs %.1f MB (%zu voxels), OctoMap %.1f MB (%zu nodes)\n",
                 s.memory_bytes() * 1e-6, nbs::observed_count(s.backend()), tree.memoryUsage() * 1e-6, tree.size());
@@ -219,7 +211,7 @@ void headlines() {
   {  // planning ray casts at 2 mm: fans from 32 viewpoints on a sphere of 0.3 m, 0.45 m long, clipped to the box
     LogOddsSpace s(0.002, f.box);
     insert_nbs(s, 6);
-    auto tree = make_tree(0.002, f.box);
+    auto tree = nbs::octomap::bbx_limited_octree(0.002, f.box);
     insert_octomap(tree, 6);
     std::vector<nbs::Ray> rays;
     for (int v = 0; v < 32; ++v) {

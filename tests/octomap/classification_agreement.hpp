@@ -7,6 +7,7 @@
 
 #include <cstddef>
 
+#include "nbs/octomap/insert_scan.hpp"
 #include "nbs/octomap/octree_backend.hpp"
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
@@ -22,17 +23,6 @@ struct ClassificationAgreement {
   std::size_t only_ref = 0;   ///< observed by OctoMap only
   [[nodiscard]] double share() const { return total ? static_cast<double>(same) / static_cast<double>(total) : 0.0; }
 };
-
-/// An OcTree at `resolution_m` whose updates are limited to `box` (OctoMap's float BBX test).
-inline ::octomap::OcTree bbx_limited_octree(double resolution_m, const Aabb& box) {
-  ::octomap::OcTree t(resolution_m);
-  ::octomap::point3d lo(static_cast<float>(box.min.x()), static_cast<float>(box.min.y()), static_cast<float>(box.min.z()));
-  ::octomap::point3d hi(static_cast<float>(box.max.x()), static_cast<float>(box.max.y()), static_cast<float>(box.max.z()));
-  t.setBBXMin(lo);  // OctoMap takes non-const references
-  t.setBBXMax(hi);
-  t.useBBXLimit(true);
-  return t;
-}
 
 inline ClassificationAgreement classification_agreement(const NativeLogOddsSpace& native, const ::octomap::OcTree& ref) {
   enum class Cls { unknown, free, occupied };

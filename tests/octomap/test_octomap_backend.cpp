@@ -40,7 +40,7 @@ TEST_CASE("PVS on OcTree and on native blocks produce identical states", "[octom
 
 TEST_CASE("native log-odds space classifies >= 99.9 % of voxels like OctoMap's insertion", "[octomap][oracle]") {
   Native native(0.004, kBox);
-  auto ref = nbs::test::bbx_limited_octree(0.004, kBox);
+  auto ref = nbs::octomap::bbx_limited_octree(0.004, kBox);
   for (int i = 0; i < 6; ++i) {
     const auto scan = nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 200 + i);
     (void)native.integrate(scan);

@@ -46,7 +46,7 @@ TEST_CASE("bunny: native log-odds space classifies >= 99.9 % of voxels like Octo
   const auto& b = bunny();
   const auto [resolution, scans] = GENERATE(std::pair{0.005, 13}, std::pair{0.002, 3});
   nbs::test::NativeLogOddsSpace native(resolution, b.box);
-  auto ref = nbs::test::bbx_limited_octree(resolution, b.box);
+  auto ref = nbs::octomap::bbx_limited_octree(resolution, b.box);
   std::size_t points = 0;
   for (int i = 0; i < scans; ++i) {
     (void)native.integrate(b.scans[i]);

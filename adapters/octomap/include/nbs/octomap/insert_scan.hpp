@@ -9,8 +9,21 @@
 #include <vector>
 
 #include "nbs/core/scan.hpp"
+#include "nbs/core/types.hpp"
 
 namespace nbs::octomap {
+
+/// An OcTree at `resolution_m` (metres) whose updates are limited to `box` (world frame, metres; OctoMap tests its
+/// bounding box in float), the counterpart of ProbabilisticVoxelSpace's unknown-area box.
+inline ::octomap::OcTree bbx_limited_octree(double resolution_m, const Aabb& box) {
+  ::octomap::OcTree t(resolution_m);
+  ::octomap::point3d lo(static_cast<float>(box.min.x()), static_cast<float>(box.min.y()), static_cast<float>(box.min.z()));
+  ::octomap::point3d hi(static_cast<float>(box.max.x()), static_cast<float>(box.max.y()), static_cast<float>(box.max.z()));
+  t.setBBXMin(lo);  // OctoMap takes non-const references
+  t.setBBXMax(hi);
+  t.useBBXLimit(true);
+  return t;
+}
 
 /// Groups the scan's points by profile and accumulates `computeUpdate` over all profiles, then applies the free
 /// and occupied updates. Points are converted to float (OctoMap's point type).
