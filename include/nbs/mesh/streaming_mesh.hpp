@@ -239,16 +239,23 @@ private:
       return c;
     }
   };
+  /// One slot of the cache of first balls of pending vertices (slots are reused).
+  struct CachedBall {
+    std::vector<CachedEntry> entries;
+    BallMoments moments;
+    VertexId owner = kNoVertex;  ///< kNoVertex: the slot is free
+  };
   static constexpr std::size_t kMaxCachedBalls = 4096;  ///< beyond this all cached balls are dropped (memory bound).
-  [[nodiscard]] std::vector<CachedEntry>* cached_ball(VertexId v) {
+  [[nodiscard]] CachedBall* cached_ball(VertexId v) {
     return cached_of_[v] == 0 ? nullptr : &cached_[cached_of_[v] - 1];
   }
   /// Caches `ball_` (v's first ball, as gathered) for the pending vertex v.
   void cache_ball(VertexId v) {
     if (live_cached_ >= kMaxCachedBalls) {
-      for (VertexId o : cached_owner_)
-        if (o != kNoVertex) cached_of_[o] = 0;
-      std::fill(cached_owner_.begin(), cached_owner_.end(), kNoVertex);
+      for (CachedBall& b : cached_) {
+        if (b.owner != kNoVertex) cached_of_[b.owner] = 0;
+        b.owner = kNoVertex;
+      }
       free_cached_.clear();
       for (std::uint32_t i = static_cast<std::uint32_t>(cached_.size()); i-- > 0;) free_cached_.push_back(i);
       live_cached_ = 0;
@@ -257,15 +264,13 @@ private:
     if (free_cached_.empty()) {
       slot = static_cast<std::uint32_t>(cached_.size());
       cached_.emplace_back();
-      cached_mom_.emplace_back();
-      cached_owner_.push_back(kNoVertex);
     } else {
       slot = free_cached_.back();
       free_cached_.pop_back();
     }
-    std::vector<CachedEntry>& c = cached_[slot];
+    std::vector<CachedEntry>& c = cached_[slot].entries;
     c.clear();
-    BallMoments& m = cached_mom_[slot];
+    BallMoments& m = cached_[slot].moments;
     m = {};
     const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
     m.add(Vec3::Zero(), detail::pca_weight(0.0, 1.0 / rn2));
@@ -274,22 +279,21 @@ private:
       if (d2 <= rn2) m.add(pos_[q] - pos_[v], detail::pca_weight(d2, 1.0 / rn2));
     }
     cached_of_[v] = slot + 1;
-    cached_owner_[slot] = v;
+    cached_[slot].owner = v;
     ++live_cached_;
   }
   void uncache_ball(VertexId v) {
     if (cached_of_[v] == 0) return;
     const std::uint32_t slot = cached_of_[v] - 1;
-    cached_[slot].clear();
-    cached_owner_[slot] = kNoVertex;
+    cached_[slot].entries.clear();
+    cached_[slot].owner = kNoVertex;
     free_cached_.push_back(slot);
     cached_of_[v] = 0;
     --live_cached_;
   }
   [[nodiscard]] std::size_t cached_bytes() const {
-    std::size_t b = cached_.capacity() * sizeof(std::vector<CachedEntry>) + cached_mom_.capacity() * sizeof(BallMoments) +
-                    (cached_owner_.capacity() + free_cached_.capacity()) * sizeof(std::uint32_t);
-    for (const auto& c : cached_) b += c.capacity() * sizeof(CachedEntry);
+    std::size_t b = cached_.capacity() * sizeof(CachedBall) + free_cached_.capacity() * sizeof(std::uint32_t);
+    for (const auto& c : cached_) b += c.entries.capacity() * sizeof(CachedEntry);
     return b;
   }
   /// Radius of the ball gathered first: min(R_n, R_m). Normals and N_act use the part within R_n (so with R_m < R_n
@@ -323,9 +327,7 @@ private:
   std::vector<double> wts_;
   std::vector<VertexId> meshed_nb_, retry_;
   std::vector<std::uint32_t> cached_of_;          ///< per vertex: 1 + slot in cached_, 0 = no cached ball.
-  std::vector<std::vector<CachedEntry>> cached_;  ///< cached first balls of pending vertices (slots reused).
-  std::vector<BallMoments> cached_mom_;           ///< moments of each cached ball.
-  std::vector<VertexId> cached_owner_;            ///< vertex of each slot, kNoVertex if free.
+  std::vector<CachedBall> cached_;                ///< cached first balls of pending vertices
   std::vector<std::uint32_t> free_cached_;
   std::size_t live_cached_ = 0;
 };
@@ -364,11 +366,11 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   retry.clear();
   const std::uint64_t key = grid_.cell_key(p);
   for (const auto& [d2, q] : ball_) {
-    if (std::vector<CachedEntry>* c = cached_ball(q)) {  // v joins q's ball after the entries of cells <= v's cell
-      auto at = c->end();
-      while (at != c->begin() && std::prev(at)->key > key) --at;
-      c->insert(at, CachedEntry{key, d2, v});
-      if (d2 <= rn2) cached_mom_[cached_of_[q] - 1].add(p - pos_[q], detail::pca_weight(d2, 1.0 / rn2));
+    if (CachedBall* c = cached_ball(q)) {  // v joins q's ball after the entries of cells <= v's cell
+      auto at = c->entries.end();
+      while (at != c->entries.begin() && std::prev(at)->key > key) --at;
+      c->entries.insert(at, CachedEntry{key, d2, v});
+      if (d2 <= rn2) c->moments.add(p - pos_[q], detail::pca_weight(d2, 1.0 / rn2));
     }
     if (d2 > rn2) continue;
     ++count_[v];
@@ -386,15 +388,15 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   }
   // Pending neighbours got a new point: retry them, each with its own ball.
   for (VertexId q : retry_) {
-    if (const std::vector<CachedEntry>* c = cached_ball(q)) {
+    if (const CachedBall* c = cached_ball(q)) {
       // A clear failure by the moments is one of estimate() too (its verdict, with its bookkeeping).
-      if (detail::clearly_not_robust(cached_mom_[cached_of_[q] - 1].covariance(), settings_.robustness, 1e-4)) {
+      if (detail::clearly_not_robust(c->moments.covariance(), settings_.robustness, 1e-4)) {
         ++stats_.normal_failures;
         attempt_[q] = count_[q];
         continue;
       }
       ball_.clear();
-      for (const CachedEntry& e : *c) ball_.emplace_back(e.d2, e.id);
+      for (const CachedEntry& e : c->entries) ball_.emplace_back(e.d2, e.id);
     } else {
       gather(pos_[q], first_ball_radius(), q, ball_);
     }
