@@ -7,14 +7,17 @@
 /// headline figure (usually a ratio nbs ÷ incumbent). scripts/bench.sh collects the lines `HEADLINE name: value`
 /// from stdout, prints them as `name: value` and writes the table to docs/performance.md.
 /// `quick_mode()` is true when bench.sh runs with --quick (environment NBS_BENCH_QUICK=1): use fewer repetitions.
-/// `best_times` is the side-by-side timing the headline ratios use.
+/// `best_times` is the side-by-side timing the headline ratios use; `machine_2thread_scaling` is the reference for
+/// two-thread scaling figures.
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <functional>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 namespace nbs::bench {
@@ -46,6 +49,34 @@ inline std::vector<double> best_times(int reps, const std::vector<std::function<
   for (int r = 0; r < reps; ++r)
     for (std::size_t i = 0; i < fns.size(); ++i) best[i] = std::min(best[i], seconds(fns[i]));
   return best;
+}
+
+/// The machine's own two-thread speed-up for throughput-bound code: eight independent integer multiply–add chains
+/// per thread (no memory traffic), 2·10^8 iterations split over 1 and over 2 std::threads, best of `reps` rounds
+/// each, interleaved. Shared or hyper-threaded virtual cores give less than 2 here; parallel benchmarks report
+/// their scaling next to this ceiling.
+inline double machine_2thread_scaling(int reps) {
+  const auto run = [](unsigned threads) {
+    constexpr std::uint64_t kIterations = 200'000'000;
+    std::vector<std::uint64_t> out(8 * threads);  // one cache line per thread
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t)
+      pool.emplace_back([&out, t, threads] {
+        std::uint64_t c[8] = {1 + t, 2, 3, 4, 5, 6, 7, 8};
+        for (std::uint64_t i = 0; i < kIterations / threads; ++i)
+          for (int k = 0; k < 8; ++k) c[k] = c[k] * (2 * k + 3) + i;
+        std::uint64_t x = 0;
+        for (std::uint64_t v : c) x ^= v;
+        out[8 * t] = x;
+      });
+    for (auto& th : pool) th.join();
+    std::uint64_t x = 0;
+    for (std::uint64_t v : out) x ^= v;
+    volatile std::uint64_t sink = x;
+    (void)sink;
+  };
+  const auto t = best_times(reps, {[&] { run(1); }, [&] { run(2); }});
+  return t[0] / t[1];
 }
 
 }  // namespace nbs::bench
