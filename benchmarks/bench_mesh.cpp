@@ -18,11 +18,14 @@
 #include <cstdio>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <string_view>
 #include <vector>
 
 #include "headline.hpp"
+#include "nbs/mesh/boundaries.hpp"
+#include "nbs/mesh/holes.hpp"
 #include "nbs/mesh/streaming_mesh.hpp"
 #ifdef NBS_BENCH_MESH_BUNNY
 #include <numbers>
@@ -135,6 +138,28 @@ void BM_StreamBunny(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * point_count(scans)));
 }
 BENCHMARK(BM_StreamBunny)->Unit(benchmark::kMillisecond);
+
+// Mesh analysis run after every scan, over the 6-scan bunny mesh (≈ 170k vertices): holes (Sec. 4.4) and boundaries
+// (Alg. 1, all of the mesh is M_cur of its last scan's sensor pose).
+const nbs::StreamingMesh& bunny_mesh() {
+  static const auto m = [] {
+    auto mesh = std::make_unique<nbs::StreamingMesh>();  // not movable: the triangulator borrows its members
+    for (const auto& s : bunny_scans()) (void)mesh->integrate(s);
+    return mesh;
+  }();
+  return *m;
+}
+void BM_FindHolesBunny(benchmark::State& state) {
+  const auto& m = bunny_mesh();
+  for (auto _ : state) benchmark::DoNotOptimize(nbs::find_holes(m, nbs::Parameters{}).size());
+}
+BENCHMARK(BM_FindHolesBunny)->Unit(benchmark::kMillisecond);
+void BM_DetectBoundariesBunny(benchmark::State& state) {
+  const auto& m = bunny_mesh();
+  const nbs::Pose sensor = nbs::Viewpoint::look_at({0.3, 0.0, 0.0}, {0, 0, 0.0}, Vec3::UnitZ()).pose();
+  for (auto _ : state) benchmark::DoNotOptimize(nbs::detect_boundaries(m, sensor, nbs::Parameters{}).size());
+}
+BENCHMARK(BM_DetectBoundariesBunny)->Unit(benchmark::kMillisecond);
 #endif
 
 void BM_StreamSphere(benchmark::State& state) {

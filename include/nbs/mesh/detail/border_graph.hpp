@@ -4,7 +4,8 @@
 /// outgoing / incoming lists for walking along the mesh border.
 
 #include <array>
-#include <unordered_map>
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "nbs/mesh/mesh_concept.hpp"
@@ -16,32 +17,49 @@ struct BorderGraph {
     VertexId from, to;  ///< triangle on the left of from→to
     bool current;       ///< e ∈ M_cur (always true for meshes that do not track scans)
   };
-  std::vector<Edge> edges;
-  std::unordered_map<VertexId, std::vector<std::uint32_t>> out, in;
+  /// Edges of one vertex (ids into `edges`, in the order of `edges`), stored compressed over all vertices.
+  struct Lists {
+    std::vector<std::uint32_t> offset;  ///< vertex v's edges are ids[offset[v] .. offset[v + 1])
+    std::vector<std::uint32_t> ids;
+  };
+  std::vector<Edge> edges;  ///< border edges in for_each_edge order
+  Lists out, in;            ///< per vertex: border edges leaving / entering it
 
   template <EdgeMesh M>
   explicit BorderGraph(const M& mesh) {
-    mesh.for_each_edge([&](const MeshEdge& e) {
-      if (!e.is_border()) return;
+    const std::size_t n = mesh.vertex_count();
+    const auto add = [&](const MeshEdge& e) {
+      if (!e.is_border() || e.a >= n || e.b >= n) return;  // ids ≥ n: not a vertex of the mesh
       bool cur = true;
       if constexpr (TracksCurrentScan<M>) cur = mesh.in_current_scan(e);
-      const auto id = static_cast<std::uint32_t>(edges.size());
-      const Edge d = e.left != kNoVertex ? Edge{e.a, e.b, cur} : Edge{e.b, e.a, cur};
-      edges.push_back(d);
-      out[d.from].push_back(id);
-      in[d.to].push_back(id);
-    });
+      edges.push_back(e.left != kNoVertex ? Edge{e.a, e.b, cur} : Edge{e.b, e.a, cur});
+    };
+    mesh.for_each_edge(add);
+    out = lists(n, [](const Edge& e) { return e.from; });
+    in = lists(n, [](const Edge& e) { return e.to; });
   }
 
-  /// First edge of `list[v]` accepted by `ok`, or -1.
+  /// First edge of `list` at v accepted by `ok`, or -1.
   template <class Ok>
-  [[nodiscard]] std::int64_t pick(const std::unordered_map<VertexId, std::vector<std::uint32_t>>& list, VertexId v,
-                                  Ok&& ok) const {
-    const auto it = list.find(v);
-    if (it == list.end()) return -1;
-    for (std::uint32_t e : it->second)
-      if (ok(e)) return e;
+  [[nodiscard]] std::int64_t pick(const Lists& list, VertexId v, Ok&& ok) const {
+    if (static_cast<std::size_t>(v) + 1 >= list.offset.size()) return -1;
+    for (std::uint32_t i = list.offset[v]; i < list.offset[v + 1]; ++i)
+      if (ok(list.ids[i])) return list.ids[i];
     return -1;
+  }
+
+private:
+  // Counting sort of the edge ids by vertex(e), stable (ids of one vertex stay in edge order).
+  template <class VertexOf>
+  [[nodiscard]] Lists lists(std::size_t n, VertexOf&& vertex_of) const {
+    Lists l;
+    l.offset.assign(n + 1, 0);
+    for (const Edge& e : edges) ++l.offset[static_cast<std::size_t>(vertex_of(e)) + 1];
+    for (std::size_t v = 0; v < n; ++v) l.offset[v + 1] += l.offset[v];
+    l.ids.resize(edges.size());
+    std::vector<std::uint32_t> fill(l.offset.begin(), l.offset.end() - 1);
+    for (std::uint32_t id = 0; id < edges.size(); ++id) l.ids[fill[vertex_of(edges[id])]++] = id;
+    return l;
   }
 };
 
