@@ -4,7 +4,11 @@
 // Tab. 4.5: 1.37 s) and planner.t_nbs_per_candidate_ms (median of t_nbs / candidates scored).
 // Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
 // NBS_BENCH_STEPS=1 prints each step's breakdown (generate / replan / evaluate seconds, candidate counts, c_m) and
-// the largest c_m of the run; NBS_BENCH_SEED=N replaces the simulation seed 1 (which initial scan is taken).
+// the largest c_m of the run; NBS_BENCH_SEED=N replaces the simulation seed 1 (which initial scan is taken);
+// NBS_BENCH_REFINE=F,K replaces the coarse-to-fine setting of the closed loop (PlannerSetting::refine; 1,K = off).
+// NBS_BENCH_REFINE_STUDY=1: after each scan, scores the remaining set S once with every ray of the planner's sampling
+// and with several coarse-to-fine settings, and prints whether each picks the same candidate and the full-sampling
+// value of its pick relative to the best (the choice quality of CoarseToFine).
 
 #include <benchmark/benchmark.h>
 
@@ -68,7 +72,13 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   const nbs::embree::SimulatedScanner scanner(fixture().mesh);
-  nbs::NbsPlanner<> planner({}, nbs::presets::dlr_lsp(), fixture().box, two_threads());
+  nbs::PlannerSetting ps = two_threads();
+  if (const char* refine = std::getenv("NBS_BENCH_REFINE")) {
+    char* end = nullptr;
+    ps.refine.coarse_factor = std::strtoull(refine, &end, 10);
+    ps.refine.refine_top = *end == ',' ? std::strtoull(end + 1, nullptr, 10) : 0;  // 0: rejected by validate()
+  }
+  nbs::NbsPlanner<> planner({}, nbs::presets::dlr_lsp(), fixture().box, ps);
   nbs::SimulationSetting sim;
   sim.seed = 1;
   if (const char* seed = std::getenv("NBS_BENCH_SEED")) sim.seed = std::strtoull(seed, nullptr, 10);
@@ -77,7 +87,33 @@ int main(int argc, char** argv) {
   const bool steps = std::getenv("NBS_BENCH_STEPS") != nullptr;
   double best_coverage = 0.0;
   int scans = 0;
+  const bool study = std::getenv("NBS_BENCH_REFINE_STUDY") != nullptr;
+  const std::vector<nbs::CoarseToFine> settings{{2, 8}, {2, 16}, {4, 8}, {4, 16}, {4, 32}, {8, 16}, {8, 32}};
+  std::vector<int> same(settings.size(), 0);
+  std::vector<double> worst(settings.size(), 1.0);
+  int studied = 0;
   (void)nbs::run_simulation(planner, scanner, sim, [&](const nbs::ScanRecord& r) {
+    if (study && planner.candidate_set().size() > 1) {
+      std::vector<nbs::LinearScanPath> paths;
+      for (const nbs::ScanCandidate& c : planner.candidate_set()) paths.push_back(c.path);
+      const nbs::UtilityContext uctx{planner.scans(), 1, &planner.params()};
+      const auto score = [&](const nbs::CoarseToFine& c) {
+        return planner.utility.evaluate(paths, planner.sensor(), planner.space(), uctx,
+                                        nbs::EvaluationSetting{ps.threads, ps.sampling, c});
+      };
+      const nbs::EvaluationResult full = score({1, 1});
+      std::printf("study scan %2d: %3zu candidates, full %.4fs", r.scan, paths.size(), full.t_nbs_s);
+      for (std::size_t k = 0; k < settings.size(); ++k) {
+        const nbs::EvaluationResult c = score(settings[k]);
+        const double rel = full.values[c.best] / full.values[full.best];
+        same[k] += c.best == full.best;
+        worst[k] = std::min(worst[k], rel);
+        std::printf("  %zu,%zu: %s %.3f %.4fs", settings[k].coarse_factor, settings[k].refine_top,
+                    c.best == full.best ? "=" : "x", rel, c.t_nbs_s);
+      }
+      std::printf("\n");
+      ++studied;
+    }
     best_coverage = std::max(best_coverage, r.integration.estimated_coverage);
     scans = r.scan;
     if (r.scan == 1 || r.planning.evaluated == 0) return;
@@ -89,6 +125,9 @@ int main(int argc, char** argv) {
     t_nbs.push_back(r.planning.t_nbs_s);
     per_candidate_ms.push_back(1e3 * r.planning.t_nbs_s / static_cast<double>(r.planning.evaluated));
   });
+  for (std::size_t k = 0; study && k < settings.size(); ++k)
+    std::printf("study %zu,%zu: same pick %d / %d, worst relative value %.3f\n", settings[k].coarse_factor,
+                settings[k].refine_top, same[k], studied, worst[k]);
   if (steps) std::printf("seed %llu: %d scans, largest c_m %.4f\n", static_cast<unsigned long long>(sim.seed), scans, best_coverage);
   nbs::bench::report_headline("planner.t_nbs_median_s", median(t_nbs), "C_H, bunny 160 mm, Tab. 4.3, 2 threads; target <= 0.05 s");
   nbs::bench::report_headline("planner.t_nbs_per_candidate_ms", median(per_candidate_ms), "report");

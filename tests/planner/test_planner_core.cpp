@@ -54,6 +54,11 @@ TEST_CASE("planner: invalid parameters, sensor, box and setting throw InvalidArg
   bad_lsp.fan_angle_rad = 0.0;
   CHECK_THROWS_AS(nbs::NbsPlanner<>({}, bad_lsp, box), nbs::InvalidArgument);
   CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, box, setting(0)), nbs::InvalidArgument);
+  for (const nbs::CoarseToFine bad_refine : {nbs::CoarseToFine{0, 32}, nbs::CoarseToFine{4, 0}}) {
+    nbs::PlannerSetting s = setting(1);
+    s.refine = bad_refine;
+    CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, box, s), nbs::InvalidArgument);
+  }
   nbs::PlannerSetting far;
   far.standoff_m = 0.9;  // outside the 0.15–0.45 m working range
   CHECK_THROWS_AS(nbs::NbsPlanner<>({}, lsp, box, far), nbs::InvalidArgument);

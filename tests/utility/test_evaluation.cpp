@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -376,4 +377,73 @@ TEST_CASE("precomputed entropy equals voxel_entropy(p); without it VoxelVisit co
   CHECK(v.entropy() == voxel_entropy(0.3));
   v.entropy_bits = 0.25;
   CHECK(v.entropy() == 0.25);
+}
+
+TEST_CASE("coarse-to-fine: the top k of the coarse pass are re-scored, the best is chosen among them",
+          "[utility][evaluation][refine]") {
+  const auto space = slab_space();
+  const auto lsp = small_lsp();
+  const auto cands = ring_candidates(12);
+  const WeightedUtility term(WeightedUtility::thesis(non_free_voxel_count(space), 3));
+  // Oracle: the two single passes (coarse = strides × 2) and the selection done by hand.
+  EvaluationSetting fine_only = nbs_test::threads(1), coarse_only = nbs_test::threads(1);
+  coarse_only.sampling = {2, 2};
+  const auto fine = evaluate_candidates(cands, lsp, space, term, fine_only);
+  const auto coarse = evaluate_candidates(cands, lsp, space, term, coarse_only);
+  REQUIRE(fine.values != coarse.values);  // the passes differ, so the mix below is observable
+  for (const std::size_t k : {std::size_t{1}, std::size_t{3}, std::size_t{5}}) {
+    std::vector<std::size_t> order(cands.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return coarse.values[a] > coarse.values[b]; });
+    order.resize(k);
+    std::vector<double> want = coarse.values;
+    std::size_t want_best = order[0];
+    for (std::size_t i : order) {
+      want[i] = fine.values[i];
+      if (fine.values[i] > fine.values[want_best] || (fine.values[i] == fine.values[want_best] && i < want_best))
+        want_best = i;
+    }
+    CAPTURE(k);
+    CHECK(top_indices(coarse.values, k) == order);
+    for (const unsigned t : {1u, 2u, 3u}) {
+      CAPTURE(t);
+      const auto r = evaluate_candidates(cands, lsp, space, term, EvaluationSetting{t, RaySampling{}, CoarseToFine{2, k}});
+      REQUIRE(r.ok());
+      CHECK(r.values == want);
+      CHECK(r.best == want_best);
+      for (std::size_t i = 0; i < cands.size(); ++i) {
+        const bool in_top = std::find(order.begin(), order.end(), i) != order.end();
+        CHECK(r.refined[i] == (in_top ? 1 : 0));
+        CHECK(r.rays[i] == (in_top ? fine.rays[i] : coarse.rays[i]));
+      }
+    }
+  }
+  // At most refine_top candidates, factor 1, or a term without rays: one pass with the full sampling.
+  for (const CoarseToFine off : {CoarseToFine{2, 12}, CoarseToFine{1, 3}}) {
+    const auto r = evaluate_candidates(cands, lsp, space, term, EvaluationSetting{1, RaySampling{}, off});
+    CHECK(r.values == fine.values);
+    CHECK(r.best == fine.best);
+    CHECK(r.refined == std::vector<std::uint8_t>(cands.size(), 1));
+  }
+  const auto rnd = evaluate_candidates(cands, lsp, space, RandomSelection({9}), EvaluationSetting{2, RaySampling{}, CoarseToFine{2, 3}});
+  CHECK(rnd.values == evaluate_candidates(cands, lsp, space, RandomSelection({9}), nbs_test::threads(1)).values);
+}
+
+TEST_CASE("coarse-to-fine: NaN is never re-scored or chosen; bad settings throw", "[utility][evaluation][refine]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(top_indices(std::vector<double>{1.0, nan, 3.0, 3.0, 2.0}, 3) == std::vector<std::size_t>{2, 3, 4});
+  CHECK(top_indices(std::vector<double>{nan, 1.0}, 5) == std::vector<std::size_t>{1});
+  CHECK(top_indices(std::vector<double>{nan}, 1).empty());
+  CHECK(CoarseToFine{4, 1}.coarse({3, std::numeric_limits<std::size_t>::max() / 2}).profile_stride == 12);
+  CHECK(CoarseToFine{4, 1}.coarse({3, std::numeric_limits<std::size_t>::max() / 2}).ray_stride ==
+        std::numeric_limits<std::size_t>::max());
+  const auto space = nbs_test::make_space();
+  const auto cands = ring_candidates(4);
+  CHECK_THROWS_WITH(evaluate_candidates(cands, small_lsp(), space, VolumetricEntropy(),
+                                        EvaluationSetting{1, RaySampling{}, CoarseToFine{0, 2}}),
+                    Catch::Contains("coarse_factor") && Catch::Contains("0"));
+  CHECK_THROWS_AS(evaluate_candidates(cands, small_lsp(), space, VolumetricEntropy(),
+                                      EvaluationSetting{1, RaySampling{}, CoarseToFine{2, 0}}),
+                  InvalidArgument);
 }

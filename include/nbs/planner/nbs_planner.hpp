@@ -304,7 +304,7 @@ PlanResult NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::next_best_scan() {
   for (const ScanCandidate& c : pool_) paths.push_back(c.path);
   const UtilityContext uctx{scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))),
                             &params_};
-  const EvaluationSetting eval{setting_.threads, setting_.sampling};
+  const EvaluationSetting eval{setting_.threads, setting_.sampling, setting_.refine};
   const EvaluationResult res = utility.evaluate(std::span<const LinearScanPath>(paths), sensor_, *space_, uctx, eval);
   st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
   st.evaluated = pool_.size();

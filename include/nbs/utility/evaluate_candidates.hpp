@@ -39,9 +39,38 @@ concept EvaluationSpace = requires(const S& s, const Ray& r, const VoxelKey& k) 
   { s.grid().center(k) } -> std::convertible_to<Vec3>;
 };
 
+/// Coarse-to-fine evaluation, our addition to the beam sub-sampling of Sec. 4.5.3 (the thesis scores every candidate
+/// with every 4th beam row and column): a first pass scores every candidate with both strides of the evaluation's
+/// `sampling` multiplied by `coarse_factor`; the `refine_top` best of that pass (ties: lower index, NaN never) are
+/// scored again with `sampling`, and the best is chosen among those only. Deterministic: both passes are per
+/// candidate, so the choice does not depend on the thread count. With `coarse_factor` 1, or at most `refine_top`
+/// candidates, there is one pass with `sampling` (no refinement). Terms that need no rays always take one pass.
+struct CoarseToFine {
+  std::size_t coarse_factor = 1;  ///< stride multiplier of the first pass, ≥ 1 (1 = off)
+  std::size_t refine_top = 16;    ///< candidates re-scored with the full `sampling`, ≥ 1
+  void validate() const {
+    detail::require(coarse_factor >= 1, "CoarseToFine.coarse_factor must be >= 1, got ", coarse_factor);
+    detail::require(refine_top >= 1, "CoarseToFine.refine_top must be >= 1, got ", refine_top);
+  }
+  [[nodiscard]] bool active(std::size_t candidates) const { return coarse_factor > 1 && candidates > refine_top; }
+  /// `fine` with both strides multiplied by coarse_factor (saturating at SIZE_MAX).
+  [[nodiscard]] RaySampling coarse(const RaySampling& fine) const {
+    const auto mul = [&](std::size_t s) {
+      return s > std::numeric_limits<std::size_t>::max() / coarse_factor ? std::numeric_limits<std::size_t>::max()
+                                                                         : s * coarse_factor;
+    };
+    return {mul(fine.profile_stride), mul(fine.ray_stride)};
+  }
+};
+
+/// How evaluate_candidates runs. Not an aggregate (so `{threads, sampling}` keeps working as fields are added).
 struct EvaluationSetting {
+  EvaluationSetting() = default;
+  EvaluationSetting(unsigned threads_, RaySampling sampling_, CoarseToFine refine_ = {})
+      : threads(threads_), sampling(sampling_), refine(refine_) {}
   unsigned threads = 0;        ///< worker threads; 0 = std::thread::hardware_concurrency()
   RaySampling sampling;        ///< beam sub-sampling (Sec. 4.5.3)
+  CoarseToFine refine;         ///< coarse-to-fine evaluation; off by default (coarse_factor 1)
 };
 
 enum class EvaluationStatus {
@@ -56,6 +85,9 @@ struct EvaluationResult {
   std::vector<double> values;          ///< utility of each candidate (higher is better)
   std::vector<std::uint64_t> rays;     ///< simulated rays per candidate
   std::vector<std::uint64_t> voxels;   ///< voxel visits per candidate (repeated visits included)
+  /// 1 if values[i] (and rays[i], voxels[i]) come from the full `sampling`; 0 if only from the coarse pass of
+  /// CoarseToFine (then best is never i). All 1 without refinement.
+  std::vector<std::uint8_t> refined;
   /// Index of the largest value; ties go to the lower index; NaN values are never chosen; npos if none.
   std::size_t best = npos;
   double t_nbs_s = 0.0;                ///< wall-clock time of the evaluation, seconds
@@ -69,6 +101,19 @@ struct EvaluationResult {
   for (std::size_t i = 0; i < values.size(); ++i)
     if (!std::isnan(values[i]) && (best == EvaluationResult::npos || values[i] > values[best])) best = i;
   return best;
+}
+
+/// Indices of the (at most) k largest non-NaN values, largest first, ties to the lower index.
+[[nodiscard]] inline std::vector<std::size_t> top_indices(std::span<const double> values, std::size_t k) {
+  std::vector<std::size_t> idx;
+  idx.reserve(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isnan(values[i])) idx.push_back(i);
+  const auto before = [&](std::size_t a, std::size_t b) { return values[a] > values[b] || (values[a] == values[b] && a < b); };
+  const std::size_t m = std::min(k, idx.size());
+  std::partial_sort(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(m), idx.end(), before);
+  idx.resize(m);
+  return idx;
 }
 
 namespace detail {
@@ -166,12 +211,14 @@ template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
                                                    const EvaluationSetting& setting = {}) {
   const auto t0 = std::chrono::steady_clock::now();
   setting.sampling.validate();
+  setting.refine.validate();
   sensor.validate();
   EvaluationResult r;
   const std::size_t n = candidates.size();
   r.values.assign(n, 0.0);
   r.rays.assign(n, 0);
   r.voxels.assign(n, 0);
+  r.refined.assign(n, 1);
   if (n == 0) {
     r.status = EvaluationStatus::no_candidates;
     r.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -182,32 +229,50 @@ template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
   r.threads = threads;
 
   std::vector<std::exception_ptr> errors(n);
-  std::atomic<std::size_t> next{0};
   const detail::PlanningSnapshot<Space> snapshot =
       term_needs_rays<Term>() ? detail::PlanningSnapshot<Space>(space) : detail::PlanningSnapshot<Space>();
-  const auto worker = [&] {
-    Term term = prototype;
-    detail::EvaluationBuffers buf;
-    for (std::size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
-      try {
-        detail::evaluate_one(i, candidates[i], sensor, space, snapshot, setting.sampling, term, buf, r.values[i],
-                             r.rays[i], r.voxels[i]);
-      } catch (...) {
-        errors[i] = std::current_exception();
+  // Scores candidates[order[j]] for every j (all candidates if order is empty) with `sampling`.
+  const auto pass = [&](std::span<const std::size_t> order, const RaySampling& sampling) {
+    const std::size_t m = order.empty() ? n : order.size();
+    std::atomic<std::size_t> next{0};
+    const auto worker = [&] {
+      Term term = prototype;
+      detail::EvaluationBuffers buf;
+      for (std::size_t j; (j = next.fetch_add(1, std::memory_order_relaxed)) < m;) {
+        const std::size_t i = order.empty() ? j : order[j];
+        try {
+          detail::evaluate_one(i, candidates[i], sensor, space, snapshot, sampling, term, buf, r.values[i], r.rays[i],
+                               r.voxels[i]);
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
       }
+    };
+    const unsigned t = static_cast<unsigned>(std::min<std::size_t>(threads, m));
+    if (t <= 1) {
+      worker();
+    } else {
+      std::vector<std::thread> pool;
+      pool.reserve(t);
+      for (unsigned k = 0; k < t; ++k) pool.emplace_back(worker);
+      for (auto& th : pool) th.join();
     }
+    for (auto& e : errors)
+      if (e) std::rethrow_exception(e);
   };
-  if (threads <= 1) {
-    worker();
+  if (term_needs_rays<Term>() && setting.refine.active(n)) {
+    pass({}, setting.refine.coarse(setting.sampling));
+    const std::vector<std::size_t> top = top_indices(r.values, setting.refine.refine_top);
+    r.refined.assign(n, 0);
+    for (std::size_t i : top) r.refined[i] = 1;
+    if (!top.empty()) pass(top, setting.sampling);
+    std::vector<double> fine(n, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t i : top) fine[i] = r.values[i];
+    r.best = best_index(fine);
   } else {
-    std::vector<std::thread> pool;
-    pool.reserve(threads);
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (auto& th : pool) th.join();
+    pass({}, setting.sampling);
+    r.best = best_index(r.values);
   }
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
-  r.best = best_index(r.values);
   r.status = EvaluationStatus::ok;
   r.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
