@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "mesh_test_util.hpp"
 #include "nbs/io/read_ply.hpp"
@@ -137,6 +139,21 @@ TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
   }
   CHECK(ring >= 28);  // 32 voxels in the ring
   CHECK(ring_with_border >= 0.9 * ring);
+  // Oracle for b_i (Eq. 4.28): the edges of for_each_edge counted per voxel of their midpoint.
+  std::unordered_map<nbs::VoxelKey, std::pair<int, int>, nbs::VoxelKeyHash> edge_count;
+  mesh.for_each_edge([&](const nbs::MeshEdge& e) {
+    if (const auto k = grid.key_of(0.5 * (mesh.position(e.a) + mesh.position(e.b)))) {
+      ++edge_count[*k].first;
+      edge_count[*k].second += e.is_border() ? 1 : 0;
+    }
+  });
+  for (const auto& [k, f] : table) {
+    const auto it = edge_count.find(k);
+    const float share = it == edge_count.end() ? 0.0f
+                                               : static_cast<float>(static_cast<double>(it->second.second) /
+                                                                    static_cast<double>(it->second.first));
+    CHECK(f.border_share == share);
+  }
   SECTION("incremental update writes only occupied voxels touched by the scan") {
     struct FakeSpace {
       nbs::VoxelGrid g{0.005};
@@ -145,13 +162,34 @@ TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
       double probability(const nbs::VoxelKey& k) const { return k.x >= 0 ? 0.99 : 0.5; }
       nbs::SurfaceFeatureMap& features() { return map; }
     } space;
-    const std::size_t written = nbs::update_surface_features(space, mesh, nbs::Parameters{});
+    // Two overlapping scans of a larger patch: M_cur (the second scan's faces) is part of the mesh.
+    const nbs::test::PlanePatch wide(0.03, 0.03);
+    nbs::StreamingMesh two;
+    two.integrate(nbs::test::scan_path(wide, down_at(0, 0.03, 0.15), 0.03, nbs::test::StripeSensor{}, 15));
+    two.integrate(nbs::test::scan_path(wide, down_at(0, 0.01, 0.15), 0.03, nbs::test::StripeSensor{}, 16));
+    std::size_t current = 0;
+    two.for_each_current_face([&](const nbs::MeshFace&) { ++current; });
+    CHECK(current > 0);
+    CHECK(current < two.face_count());
+    const auto table2 = nbs::compute_surface_features(two, grid);
+    const std::size_t written = nbs::update_surface_features(space, two, nbs::Parameters{});
     CHECK(written == space.map.size());
     CHECK(written > 0);
+    std::size_t seen = 0;
     space.map.for_each([&](const nbs::VoxelKey& k, const nbs::SurfaceFeatures& f) {
       CHECK(k.x >= 0);
-      CHECK(f.border_share == table.at(k).border_share);
+      CHECK(f.border_share == table2.at(k).border_share);
+      ++seen;
     });
+    // Oracle for the voxels touched by the scan: those of the vertices of M_cur's edges (in_current_scan).
+    std::unordered_set<nbs::VoxelKey, nbs::VoxelKeyHash> touched;
+    two.for_each_edge([&](const nbs::MeshEdge& e) {
+      if (!two.in_current_scan(e)) return;
+      for (nbs::VertexId v : {e.a, e.b})
+        if (const auto k = space.grid().key_of(two.position(v)); k && k->x >= 0 && table2.count(*k)) touched.insert(*k);
+    });
+    CHECK(seen == touched.size());
+    for (const auto& k : touched) CHECK(space.map.find(k) != nullptr);
   }
 }
 

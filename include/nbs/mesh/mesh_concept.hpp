@@ -56,4 +56,11 @@ concept TracksCurrentScan = EdgeMesh<M> && requires(const M& m, const MeshEdge& 
   { m.in_current_scan(e) } -> std::convertible_to<bool>;
 };
 
+/// Optional capability: the mesh lists the faces created or changed in the current scan (M_cur's faces, in
+/// for_each_face order): an edge is in M_cur iff one of these faces holds it.
+template <class M>
+concept ListsCurrentFaces = TracksCurrentScan<M> && requires(const M& m, void (*face_fn)(const MeshFace&)) {
+  m.for_each_current_face(face_fn);
+};
+
 }  // namespace nbs

@@ -149,6 +149,15 @@ public:
       }
     }
   }
+  /// The faces created or changed in the current scan (M_cur's faces), in for_each_face order.
+  template <class F>
+  void for_each_current_face(F&& f) const {
+    for (std::uint32_t i = 0; i < faces_.face_count(); ++i) {
+      if (faces_.face_scan(i) != scan_) continue;
+      const auto& t = faces_.face(i);
+      f(MeshFace{t[0], t[1], t[2]});
+    }
+  }
   /// True if a triangle of `e` was created or changed in the current scan (e ∈ M_cur, Eq. 4.2).
   [[nodiscard]] bool in_current_scan(const MeshEdge& e) const {
     for (VertexId c : {e.left, e.right}) {

@@ -17,7 +17,8 @@ namespace nbs {
 
 using SurfaceFeatureTable = std::unordered_map<VoxelKey, SurfaceFeatures, VoxelKeyHash>;
 
-/// Features of the voxels of `grid` that hold a mesh vertex; when `only` is non-null, just those voxels. O(V + E).
+/// Features of the voxels of `grid` that hold a mesh vertex; when `only` is non-null, just those voxels. O(V + F);
+/// twin lookups only for the edges of the wanted voxels.
 template <DensityMesh M>
 [[nodiscard]] SurfaceFeatureTable compute_surface_features(const M& mesh, const VoxelGrid& grid,
                                                            const std::unordered_set<VoxelKey, VoxelKeyHash>* only = nullptr) {
@@ -39,13 +40,21 @@ template <DensityMesh M>
     a.normal += mesh.normal(v);
     ++a.vertices;
   }
-  mesh.for_each_edge([&](const MeshEdge& e) {
-    const auto k = grid.key_of(0.5 * (mesh.position(e.a) + mesh.position(e.b)));
-    if (!k) return;
-    const auto it = acc.find(*k);
-    if (it == acc.end()) return;
-    ++it->second.edges;
-    it->second.border += e.is_border() ? 1 : 0;
+  // The edges of for_each_edge, read off the faces: edge a→b of a face is counted there if a < b, or if no face holds
+  // b→a (a border edge of this face alone). The mesh is asked for the twin only when the midpoint's voxel is wanted.
+  mesh.for_each_face([&](const MeshFace& f) {
+    const VertexId t[3] = {f.a, f.b, f.c};
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      const auto key = grid.key_of(0.5 * (mesh.position(a) + mesh.position(b)));
+      if (!key) continue;
+      const auto it = acc.find(*key);
+      if (it == acc.end()) continue;
+      const bool twin = mesh.left_vertex(b, a) != kNoVertex;
+      if (a > b && twin) continue;  // counted by the twin face
+      ++it->second.edges;
+      it->second.border += twin ? 0 : 1;
+    }
   });
   SurfaceFeatureTable out;
   for (const auto& [k, a] : acc) {
@@ -76,11 +85,18 @@ template <FeatureSpace S, DensityMesh M>
 std::size_t update_surface_features(S& space, const M& mesh, const Parameters& params) {
   params.validate();
   std::unordered_set<VoxelKey, VoxelKeyHash> touched;
-  mesh.for_each_edge([&](const MeshEdge& e) {
-    if (!mesh.in_current_scan(e)) return;
-    for (VertexId v : {e.a, e.b})
-      if (const auto k = space.grid().key_of(mesh.position(v))) touched.insert(*k);
-  });
+  if constexpr (ListsCurrentFaces<M>) {  // the vertices of M_cur's edges are those of its faces
+    mesh.for_each_current_face([&](const MeshFace& f) {
+      for (VertexId v : {f.a, f.b, f.c})
+        if (const auto k = space.grid().key_of(mesh.position(v))) touched.insert(*k);
+    });
+  } else {
+    mesh.for_each_edge([&](const MeshEdge& e) {
+      if (!mesh.in_current_scan(e)) return;
+      for (VertexId v : {e.a, e.b})
+        if (const auto k = space.grid().key_of(mesh.position(v))) touched.insert(*k);
+    });
+  }
   std::size_t written = 0;
   for (const auto& [k, f] : compute_surface_features(mesh, space.grid(), &touched)) {
     if (space.probability(k) < params.occupied_threshold) continue;
