@@ -148,6 +148,34 @@ TEST_CASE("area sensor: single viewpoints; generators are deterministic", "[gene
   }
 }
 
+TEST_CASE("boundary search: 1, 2 and 3 threads give the same candidates in the same order", "[generators]") {
+  PlaneScan scan;
+  const auto one = nbs::BoundarySearch{}.generate(scan.context());
+  REQUIRE(one.status == nbs::CandidateStatus::ok);
+  REQUIRE(one.candidates.size() >= 2);  // several boundaries, so the threads share the work
+  for (const unsigned t : {2u, 3u}) {
+    Context ctx = scan.context();
+    ctx.threads = t;
+    const auto r = nbs::BoundarySearch{}.generate(ctx);
+    CAPTURE(t);
+    CHECK(r.status == one.status);
+    CHECK(r.considered == one.considered);
+    CHECK(r.rejected == one.rejected);
+    REQUIRE(r.candidates.size() == one.candidates.size());
+    for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+      const auto &a = r.candidates[i], &b = one.candidates[i];
+      CHECK(a.index == b.index);
+      CHECK(a.path.start().pose().matrix() == b.path.start().pose().matrix());
+      CHECK(a.path.end_position() == b.path.end_position());
+      CHECK(a.targets.size() == b.targets.size());
+      CHECK(a.sharp_corner == b.sharp_corner);
+    }
+  }
+  Context bad = scan.context();
+  bad.threads = 0;
+  CHECK_THROWS_WITH(nbs::BoundarySearch{}.generate(bad), Catch::Contains("PlanningContext.threads") && Catch::Contains("0"));
+}
+
 TEST_CASE("planarity of normals (Eqs. 4.19-4.21 as the text reads them)", "[generators]") {
   // Plane: λ = (1, 0, 0). Cylinder normals over ±60 deg in one plane: the second-moment matrix has
   // λ2 = mean sin² = 1/2 − sin(2·60°)/(4·60° in rad) = 0.2933 > 0.09 -> not planar (with the mean-free C_N of

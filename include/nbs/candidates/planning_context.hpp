@@ -79,6 +79,9 @@ struct PlanningContext {
   SensorGeometry sensor{};
   Aabb unknown_area{};        ///< bounding box of the unknown area (Sec. 4.1); used by the sphere baseline.
   double standoff_m = 0.0;    ///< d_s; 0 = sensor.mid_range_m().
+  /// Threads a generator may use (≥ 1; Boundary Search: topology beside boundary detection, then the boundaries in
+  /// parallel). Generators return the same candidates for any count.
+  unsigned threads = 1;
 
   /// d_s in metres.
   [[nodiscard]] double standoff() const { return standoff_m > 0.0 ? standoff_m : sensor.mid_range_m(); }
@@ -90,6 +93,7 @@ struct PlanningContext {
     validate_pose(last_sensor, "PlanningContext.last_sensor");
     detail::require_non_negative("PlanningContext.last_path_length_m", last_path_length_m);
     detail::require_non_negative("PlanningContext.standoff_m", standoff_m);
+    detail::require(threads >= 1 && threads <= 1024, "PlanningContext.threads must be in [1, 1024], got ", threads);
     const double d = standoff();
     detail::require(sensor.range.contains(d), "PlanningContext: d_s = ", d, " m lies outside the working range [",
                     sensor.range.min_m, ", ", sensor.range.max_m, "]");

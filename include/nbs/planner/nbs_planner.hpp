@@ -154,7 +154,8 @@ private:
     return s;
   }
   [[nodiscard]] PlanningContext<Mesh, Space> context() const {
-    return {*mesh_, *space_, params_, last_sensor_, last_path_length_, geometry_, box_, setting_.standoff_m};
+    return {*mesh_, *space_, params_, last_sensor_, last_path_length_, geometry_, box_, setting_.standoff_m,
+            setting_.threads};
   }
   /// Runs Alg. 3 on `fresh` (if enabled), counts, and appends the accepted candidates to S.
   void admit(std::vector<ScanCandidate> fresh, IterationStats& st);
