@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
+#include <vector>
 #include <limits>
 
 #include "mesh_test_util.hpp"
@@ -93,6 +95,27 @@ TEST_CASE("rescanning adds no vertex closer than R_r and keeps the mesh consiste
   require_consistent(mesh);  // includes: no two vertices closer than R_r
   CHECK(mesh.vertex_count() >= first);
   CHECK(mesh.stats().too_close > 0);
+}
+
+TEST_CASE("border edges read off the per-face masks equal the faces' own border", "[mesh]") {
+  // Oracle: check_invariants compares for_each_edge's v_l / v_r (border status read off the masks) with the directed
+  // edges of the faces, and for_each_border_edge with for_each_edge; the masks do not depend on integrate vs insert.
+  nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.03);
+  const auto scan = nbs::test::scan_path(sphere, down_at(0, 0.03, 0.15), 0.06, nbs::test::StripeSensor{}, 7);
+  nbs::StreamingMesh fused, pointwise;
+  fused.integrate(scan);
+  pointwise.begin_scan(scan.profile_poses.front());
+  for (std::size_t i = 0; i < scan.size(); ++i) (void)pointwise.insert(scan.points[i], scan.line_of_sight(i));
+  require_consistent(fused);
+  require_consistent(pointwise);
+  const auto border_of = [](const nbs::StreamingMesh& m) {
+    std::vector<std::array<nbs::VertexId, 4>> out;
+    m.for_each_border_edge([&](const nbs::MeshEdge& e) { out.push_back({e.a, e.b, e.left, e.right}); });
+    return out;
+  };
+  const auto border = border_of(fused);
+  CHECK(border.size() > 50);
+  CHECK(border == border_of(pointwise));
 }
 
 TEST_CASE("the result does not depend on how the stream is split into scans", "[mesh]") {

@@ -12,8 +12,10 @@
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
+#include <vector>
 
 #include "nbs/core/error.hpp"
+#include "nbs/mesh/detail/border_graph.hpp"
 #include "nbs/mesh/detail/spatial_hash.hpp"
 #include "nbs/mesh/mesh_concept.hpp"
 
@@ -78,6 +80,19 @@ template <EdgeMesh M>
       r.add(detail::concat("left_vertex disagrees with for_each_edge on ", e.a, "->", e.b));
     if (e.left == kNoVertex && e.right == kNoVertex) r.add(detail::concat("edge ", e.a, "-", e.b, " has no triangle"));
   });
+  if constexpr (detail::BorderEnumerating<M>) {  // the border enumeration equals for_each_edge's border, in order
+    std::vector<MeshEdge> border, listed;
+    mesh.for_each_edge([&](const MeshEdge& e) {
+      if (e.is_border()) border.push_back(e);
+    });
+    mesh.for_each_border_edge([&](const MeshEdge& e) { listed.push_back(e); });
+    const auto same = [](const MeshEdge& x, const MeshEdge& y) {
+      return x.a == y.a && x.b == y.b && x.left == y.left && x.right == y.right;
+    };
+    if (!std::equal(border.begin(), border.end(), listed.begin(), listed.end(), same))
+      r.add(detail::concat("for_each_border_edge lists ", listed.size(), " edges, for_each_edge has ", border.size(),
+                           " border edges (or in another order)"));
+  }
   for (const auto& [k, c] : directed) {
     (void)c;
     const auto a = static_cast<VertexId>(k >> 32), b = static_cast<VertexId>(k & 0xFFFFFFFFu);

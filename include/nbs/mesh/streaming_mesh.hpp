@@ -135,17 +135,34 @@ public:
       f(MeshFace{t[0], t[1], t[2]});
     }
   }
-  /// Every undirected edge once, directed from the smaller to the larger vertex id.
+  /// Every undirected edge once, directed from the smaller to the larger vertex id: in face order, a face's edges in
+  /// order, each edge from the face that holds it as a→b with a < b, or from its only face.
   template <class F>
   void for_each_edge(F&& f) const {
     for (std::uint32_t i = 0; i < faces_.face_count(); ++i) {
       const auto& t = faces_.face(i);
+      const unsigned border = faces_.border_mask(i);
       for (int k = 0; k < 3; ++k) {
         const VertexId a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+        const bool no_twin = (border >> k) & 1u;
         if (a < b)
-          f(MeshEdge{a, b, c, faces_.left_vertex(b, a)});
-        else if (faces_.face_with(b, a) == detail::FaceStore::kNoFace)
+          f(MeshEdge{a, b, c, no_twin ? kNoVertex : faces_.left_vertex(b, a)});
+        else if (no_twin)
           f(MeshEdge{b, a, kNoVertex, c});
+      }
+    }
+  }
+  /// The border edges (Eq. 4.1) of for_each_edge, in its order, read off per-face masks (no adjacency lookups).
+  template <class F>
+  void for_each_border_edge(F&& f) const {
+    for (std::uint32_t i = 0; i < faces_.face_count(); ++i) {
+      const unsigned border = faces_.border_mask(i);
+      if (border == 0) continue;
+      const auto& t = faces_.face(i);
+      for (int k = 0; k < 3; ++k) {
+        if (!((border >> k) & 1u)) continue;
+        const VertexId a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+        f(a < b ? MeshEdge{a, b, c, kNoVertex} : MeshEdge{b, a, kNoVertex, c});
       }
     }
   }
@@ -416,6 +433,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
       cache_ball(q);
     }
   }
+  faces_.refresh_border();  // the faces are consistent again: bring the border masks up to date
   return result;
 }
 

@@ -12,6 +12,10 @@
 
 namespace nbs::detail {
 
+/// Meshes that enumerate their border edges directly, in for_each_edge order (StreamingMesh).
+template <class M>
+concept BorderEnumerating = requires(const M& m, void (*fn)(const MeshEdge&)) { m.for_each_border_edge(fn); };
+
 struct BorderGraph {
   struct Edge {
     VertexId from, to;  ///< triangle on the left of from→to
@@ -34,7 +38,11 @@ struct BorderGraph {
       if constexpr (TracksCurrentScan<M>) cur = mesh.in_current_scan(e);
       edges.push_back(e.left != kNoVertex ? Edge{e.a, e.b, cur} : Edge{e.b, e.a, cur});
     };
-    mesh.for_each_edge(add);
+    if constexpr (BorderEnumerating<M>) {
+      mesh.for_each_border_edge(add);
+    } else {
+      mesh.for_each_edge(add);
+    }
     out = lists(n, [](const Edge& e) { return e.from; });
     in = lists(n, [](const Edge& e) { return e.to; });
   }
