@@ -211,7 +211,9 @@ public:
     return sizeof(*this) + pos_.capacity() * sizeof(Vec3) + nrm_.capacity() * sizeof(Vec3) +
            los_.capacity() * sizeof(Eigen::Vector3f) + count_.capacity() * sizeof(std::uint32_t) +
            attempt_.capacity() * sizeof(std::uint32_t) + faces_.memory_bytes() + grid_.memory_bytes() +
-           tri_.memory_bytes() + cached_of_.capacity() * sizeof(std::uint32_t) + cached_bytes();
+           tri_.memory_bytes() + cached_of_.capacity() * sizeof(std::uint32_t) + cached_bytes() +
+           moments_of_.capacity() * sizeof(std::uint32_t) + moments_.capacity() * sizeof(BallMoments) +
+           free_moments_.capacity() * sizeof(std::uint32_t);
   }
 
 private:
@@ -239,14 +241,17 @@ private:
   }
   /// First ball of a pending vertex, kept equal to what gather(position, first_ball_radius()) would return: entries
   /// in gather()'s order (ascending cell key, then id, which is insertion order); each new point within the radius is
-  /// inserted at its place. Saves the gather when the vertex is retried.
+  /// inserted at its place. Saves the gather when the vertex is retried. Kept only for vertices whose moments did not
+  /// give a clear verdict at a retry (near a robustness threshold), at most kMaxCachedBalls at a time.
   struct CachedEntry {
     std::uint64_t key;  ///< SpatialHash::cell_key of the point.
     double d2;
     VertexId id;
   };
-  /// Weighted moments of a cached ball's points within R_n, relative to the vertex (centre included): Σw, Σw d,
-  /// Σw d dᵀ (lower triangle). One-pass, so only good for a clear verdict (clearly_not_robust with a 1e-4 margin).
+  /// Weighted moments of a pending vertex's points within R_n, relative to the vertex (centre included): Σw, Σw d,
+  /// Σw d dᵀ (lower triangle). Kept for every pending vertex (80 bytes) from its insertion until it is meshed, and
+  /// updated as points join its ball, so that a retry with a clearly non-robust neighbourhood costs O(1). One-pass,
+  /// so only good for a clear verdict (clearly_not_robust with a 1e-4 margin, which estimate() then agrees with).
   struct BallMoments {
     double w = 0.0;
     Vec3 wd = Vec3::Zero();
@@ -268,12 +273,22 @@ private:
   /// One slot of the cache of first balls of pending vertices (slots are reused).
   struct CachedBall {
     std::vector<CachedEntry> entries;
-    BallMoments moments;
     VertexId owner = kNoVertex;  ///< kNoVertex: the slot is free
   };
   static constexpr std::size_t kMaxCachedBalls = 4096;  ///< beyond this all cached balls are dropped (memory bound).
   [[nodiscard]] CachedBall* cached_ball(VertexId v) {
     return cached_of_[v] == 0 ? nullptr : &cached_[cached_of_[v] - 1];
+  }
+  /// A free slot of `pool` (from `free`, else a new one at the end).
+  template <class T>
+  [[nodiscard]] static std::uint32_t take_slot(std::vector<T>& pool, std::vector<std::uint32_t>& free) {
+    if (free.empty()) {
+      pool.emplace_back();
+      return static_cast<std::uint32_t>(pool.size() - 1);
+    }
+    const std::uint32_t slot = free.back();
+    free.pop_back();
+    return slot;
   }
   /// Caches `ball_` (v's first ball, as gathered) for the pending vertex v.
   void cache_ball(VertexId v) {
@@ -286,24 +301,10 @@ private:
       for (std::uint32_t i = static_cast<std::uint32_t>(cached_.size()); i-- > 0;) free_cached_.push_back(i);
       live_cached_ = 0;
     }
-    std::uint32_t slot;
-    if (free_cached_.empty()) {
-      slot = static_cast<std::uint32_t>(cached_.size());
-      cached_.emplace_back();
-    } else {
-      slot = free_cached_.back();
-      free_cached_.pop_back();
-    }
+    const std::uint32_t slot = take_slot(cached_, free_cached_);
     std::vector<CachedEntry>& c = cached_[slot].entries;
     c.clear();
-    BallMoments& m = cached_[slot].moments;
-    m = {};
-    const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
-    m.add(Vec3::Zero(), detail::pca_weight(0.0, 1.0 / rn2));
-    for (const auto& [d2, q] : ball_) {
-      c.push_back({grid_.cell_key(pos_[q]), d2, q});
-      if (d2 <= rn2) m.add(pos_[q] - pos_[v], detail::pca_weight(d2, 1.0 / rn2));
-    }
+    for (const auto& [d2, q] : ball_) c.push_back({grid_.cell_key(pos_[q]), d2, q});
     cached_of_[v] = slot + 1;
     cached_[slot].owner = v;
     ++live_cached_;
@@ -316,6 +317,22 @@ private:
     free_cached_.push_back(slot);
     cached_of_[v] = 0;
     --live_cached_;
+  }
+  /// Starts the moments of the new pending vertex v from its first ball (`ball_`, as gathered).
+  void start_moments(VertexId v) {
+    const std::uint32_t slot = take_slot(moments_, free_moments_);
+    BallMoments& m = moments_[slot];
+    m = {};
+    const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
+    m.add(Vec3::Zero(), detail::pca_weight(0.0, 1.0 / rn2));
+    for (const auto& [d2, q] : ball_)
+      if (d2 <= rn2) m.add(pos_[q] - pos_[v], detail::pca_weight(d2, 1.0 / rn2));
+    moments_of_[v] = slot + 1;
+  }
+  void drop_moments(VertexId v) {
+    if (moments_of_[v] == 0) return;
+    free_moments_.push_back(moments_of_[v] - 1);
+    moments_of_[v] = 0;
   }
   [[nodiscard]] std::size_t cached_bytes() const {
     std::size_t b = cached_.capacity() * sizeof(CachedBall) + free_cached_.capacity() * sizeof(std::uint32_t);
@@ -356,6 +373,9 @@ private:
   std::vector<CachedBall> cached_;                ///< cached first balls of pending vertices
   std::vector<std::uint32_t> free_cached_;
   std::size_t live_cached_ = 0;
+  std::vector<std::uint32_t> moments_of_;         ///< per vertex: 1 + slot in moments_, 0 = none (not pending).
+  std::vector<BallMoments> moments_;              ///< moments of the pending vertices
+  std::vector<std::uint32_t> free_moments_;
 };
 
 // ---- implementation ------------------------------------------------------------------------------------------------
@@ -382,6 +402,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
   count_.push_back(1);
   attempt_.push_back(0);
   cached_of_.push_back(0);
+  moments_of_.push_back(0);
   faces_.add_vertex();
   grid_.insert(p, v);
   ++stats_.stored;
@@ -396,9 +417,9 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
       auto at = c->entries.end();
       while (at != c->entries.begin() && std::prev(at)->key > key) --at;
       c->entries.insert(at, CachedEntry{key, d2, v});
-      if (d2 <= rn2) c->moments.add(p - pos_[q], detail::pca_weight(d2, 1.0 / rn2));
     }
     if (d2 > rn2) continue;
+    if (moments_of_[q] != 0) moments_[moments_of_[q] - 1].add(p - pos_[q], detail::pca_weight(d2, 1.0 / rn2));
     ++count_[v];
     ++count_[q];
     if (!has_normal(q) && static_cast<int>(count_[q]) >= settings_.robustness.min_neighbours &&
@@ -410,17 +431,17 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
     triangulate(v);
     result = InsertResult::meshed;
   } else {
-    cache_ball(v);
+    start_moments(v);
   }
   // Pending neighbours got a new point: retry them, each with its own ball.
   for (VertexId q : retry_) {
+    // A clear failure by the moments is one of estimate() too (its verdict, with its bookkeeping).
+    if (detail::clearly_not_robust(moments_[moments_of_[q] - 1].covariance(), settings_.robustness, 1e-4)) {
+      ++stats_.normal_failures;
+      attempt_[q] = count_[q];
+      continue;
+    }
     if (const CachedBall* c = cached_ball(q)) {
-      // A clear failure by the moments is one of estimate() too (its verdict, with its bookkeeping).
-      if (detail::clearly_not_robust(c->moments.covariance(), settings_.robustness, 1e-4)) {
-        ++stats_.normal_failures;
-        attempt_[q] = count_[q];
-        continue;
-      }
       ball_.clear();
       for (const CachedEntry& e : c->entries) ball_.emplace_back(e.d2, e.id);
     } else {
@@ -428,6 +449,7 @@ inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sig
     }
     if (estimate(q)) {
       uncache_ball(q);
+      drop_moments(q);
       triangulate(q);
     } else if (cached_of_[q] == 0) {
       cache_ball(q);
