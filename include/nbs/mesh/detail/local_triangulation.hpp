@@ -63,6 +63,8 @@ public:
     u_ = n_.unitOrthogonal();
     w_ = n_.cross(u_);
     touched_ = 0;
+    set_angle_bound(fan_angle_, s.min_angle_rad);
+    set_angle_bound(notch_angle_, 0.25 * s.min_angle_rad);
     local_.clear();
     for (VertexId q : neighbours) {
       if (static_cast<int>(local_.size()) >= s.max_fan_neighbours) break;
@@ -88,6 +90,19 @@ public:
 private:
   static constexpr double kEps = 1e-12;
   static constexpr double kSameDirectionRad = 0.035;  // 2°
+  /// Threshold of angles_at_least(); `fast` (0 < thr < 1.5) enables the tangent pre-test.
+  struct AngleBound {
+    double thr = -1.0, tan_lo = 0.0, tan_hi = 0.0;
+    bool fast = false;
+  };
+  static void set_angle_bound(AngleBound& b, double thr) {
+    if (thr == b.thr) return;
+    b.thr = thr;
+    b.fast = thr > 0.0 && thr < 1.5;
+    const double t = b.fast ? std::tan(thr) : 0.0;
+    b.tan_lo = t * (1.0 - 1e-6);
+    b.tan_hi = t * (1.0 + 1e-6);
+  }
 
   [[nodiscard]] P2 project(VertexId q) const {
     const Vec3 d = (pos_[q] - pos_[v_]) * inv_r_;
@@ -117,6 +132,24 @@ private:
     const Vec3 fn = face_normal(a, b, c);
     const double len = fn.norm();
     return len > 0.0 && fn.dot(n_) >= s_.min_normal_dot * len;
+  }
+  /// min_angle(a, b, c) >= thr, with atan2 only for corner angles within a relative 1e-6 of tan(thr) (tan_lo/tan_hi,
+  /// set by set_angle_bound); a NaN angle is skipped as by the std::min of min_angle.
+  [[nodiscard]] bool angles_at_least(VertexId a, VertexId b, VertexId c, const AngleBound& t) const {
+    if (!t.fast) return min_angle(a, b, c) >= t.thr;
+    const std::array<Vec3, 3> p{pos_[a], pos_[b], pos_[c]};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+      const double sn = e1.cross(e2).norm(), cs = e1.dot(e2);
+      if (cs > 1e-200) {
+        if (sn >= cs * t.tan_hi) continue;
+        if (sn < cs * t.tan_lo) return false;
+      } else if (cs < 0.0 && sn >= 0.0) {
+        continue;  // obtuse: atan2 ≥ π/2 > thr
+      }
+      if (std::atan2(sn, cs) < t.thr) return false;
+    }
+    return true;
   }
   [[nodiscard]] double min_angle(VertexId a, VertexId b, VertexId c) const {
     const std::array<Vec3, 3> p{pos_[a], pos_[b], pos_[c]};
@@ -227,27 +260,40 @@ private:
     }
     for (auto& e : edges_) e.side_o = side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, o));
     vis_.clear();
+    std::size_t hint = 0;
     for (std::size_t i = 0; i < local_.size(); ++i) {
       const VertexId q = local_[i];
       const P2& pq = local_p2_[i];
-      side_.resize(verts_.size());
-      for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(o, pq, verts_[j].p2));
-      bool blocked = false;
       // Only the face edges exist yet (3 per face, edges_[3 i + k]); a face whose corners all lie on one side (or on
-      // the line) of o→pq has no straddling edge, so its three edges are skipped at once.
-      for (std::size_t i = 0; i < faces_.size() && !blocked; ++i) {
-        const int s0 = side_[corner_[3 * i]], s1 = side_[corner_[3 * i + 1]], s2 = side_[corner_[3 * i + 2]];
-        if (s0 * s1 >= 0 && s1 * s2 >= 0 && s2 * s0 >= 0) continue;
-        for (std::size_t k = 3 * i; k < 3 * i + 3; ++k) {
-          const Edge2& e = edges_[k];
-          // cross(o, pq, pa, pb): d1 = side_[ia], d2 = side_[ib], d3 = side_o, d4 = orient(pa, pb, pq). An edge at q
+      // the line) of o→pq has no straddling edge, so its three edges are skipped at once. sd: the corners' side_class
+      // of orient(o, pq, corner).
+      auto blocks = [&](std::size_t i, const std::array<int, 3>& sd) {
+        if (sd[0] * sd[1] >= 0 && sd[1] * sd[2] >= 0 && sd[2] * sd[0] >= 0) return false;
+        for (int k = 0; k < 3; ++k) {
+          const Edge2& e = edges_[3 * i + static_cast<std::size_t>(k)];
+          // cross(o, pq, pa, pb): d1 = sd[k], d2 = sd[k + 1], d3 = side_o, d4 = orient(pa, pb, pq). An edge at q
           // has orient(o, pq, pq) = 0 exactly at that end, so it never counts (the old explicit skip).
-          if (side_[e.ia] * side_[e.ib] < 0 &&
-              e.side_o * side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, pq)) < 0) {
-            blocked = true;
-            break;
-          }
+          if (sd[k] * sd[(k + 1) % 3] < 0 && e.side_o * side_class(orient(verts_[e.ia].p2, verts_[e.ib].p2, pq)) < 0)
+            return true;
         }
+        return false;
+      };
+      // "Some face blocks" does not depend on the order, so the face that blocked the last neighbour is tried first,
+      // on its own (most neighbours are blocked, often by the same face), before the sides of all patch vertices.
+      bool blocked = false;
+      if (hint < faces_.size()) {
+        std::array<int, 3> sd{};
+        for (std::size_t k = 0; k < 3; ++k) sd[k] = side_class(orient(o, pq, verts_[corner_[3 * hint + k]].p2));
+        blocked = blocks(hint, sd);
+      }
+      if (!blocked) {
+        side_.resize(verts_.size());
+        for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(o, pq, verts_[j].p2));
+        for (std::size_t i = 0; i < faces_.size() && !blocked; ++i)
+          if (i != hint && blocks(i, {side_[corner_[3 * i]], side_[corner_[3 * i + 1]], side_[corner_[3 * i + 2]]})) {
+            blocked = true;
+            hint = i;
+          }
       }
       if (!blocked) vis_.push_back({q, std::atan2(pq.y(), pq.x()), pq});
     }
@@ -296,7 +342,7 @@ private:
     if (fs_.face_with(p, q) != FaceStore::kNoFace || fs_.face_with(v_, p) != FaceStore::kNoFace ||
         fs_.face_with(q, v_) != FaceStore::kNoFace)
       return;
-    if (!normal_agrees(v_, p, q) || min_angle(v_, p, q) < s_.min_angle_rad) return;
+    if (!normal_agrees(v_, p, q) || !angles_at_least(v_, p, q, fan_angle_)) return;
     side_.resize(verts_.size());
     for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(pp, pq, verts_[j].p2));
     for (const auto& e : edges_) {
@@ -365,6 +411,11 @@ private:
   /// no other local vertex, and be ear-clippable with new edges ≤ R_m and faces agreeing with v's normal; all faces
   /// are checked before any is added, so a gap is either filled completely or left alone.
   void close_gaps() {
+    const std::size_t cap = static_cast<std::size_t>(std::max(s_.max_gap_edges, 0)) + 1;
+    if (chain_.size() < cap) {
+      chain_.resize(cap);
+      chain_p2_.resize(cap);
+    }
     std::vector<VertexId>& cand = local_;
     cand.push_back(v_);
     local_p2_.push_back(project(v_));  // local_p2_[i] = project(local_[i]) stays true
@@ -374,44 +425,59 @@ private:
   }
 
   bool close_gap_from(VertexId x) {
+    VertexId y = next_border_cached(x);
+    if (y == kNoVertex) return false;
     const double r2 = s_.radius_m * s_.radius_m;
-    chain_.assign(1, x);
-    chain_p2_.assign(1, project(x));
+    chain_[0] = x;
+    chain_p2_[0] = project(x);
+    chain_n_ = 1;
+    chain_checked_ = 0;
+    chain_crossed_ = false;
     chain_area2_ = 0.0;
     double length = 0.0;
     for (int k = 1; k <= s_.max_gap_edges; ++k) {
-      const VertexId y = next_border_cached(chain_.back());
+      if (k > 1) y = next_border_cached(chain_[chain_n_ - 1]);
       if (y == kNoVertex) return false;
       if (y == x) return k >= 3 && fill_polygon(true);
-      if (std::find(chain_.begin(), chain_.end(), y) != chain_.end()) return false;
+      const auto chain_end = chain_.begin() + static_cast<std::ptrdiff_t>(chain_n_);
+      if (std::find(chain_.begin(), chain_end, y) != chain_end) return false;
       if ((pos_[y] - pos_[v_]).squaredNorm() > 4.0 * r2) return false;
-      length += (pos_[y] - pos_[chain_.back()]).norm();
-      chain_.push_back(y);
-      const P2 py = project(y), &pb = chain_p2_.back();
+      const VertexId prev = chain_[chain_n_ - 1];
+      length += (pos_[y] - pos_[prev]).norm();
+      const P2 py = project(y), &pb = chain_p2_[chain_n_ - 1];
       chain_area2_ += pb.x() * py.y() - pb.y() * py.x();
-      chain_p2_.push_back(py);
+      chain_[chain_n_] = y;
+      chain_p2_[chain_n_] = py;
+      ++chain_n_;
       const double chord2 = (pos_[y] - pos_[x]).squaredNorm();
       if (k >= 2 && chord2 <= r2 && length * length >= s_.min_notch_ratio * s_.min_notch_ratio * chord2 &&
-          !fs_.has_edge(x, y) && fill_polygon(false))
-        return true;
+          !fs_.has_edge(x, y)) {
+        if (fill_polygon(false)) return true;
+        if (chain_crossed_) return false;  // two chain edges cross: every longer polygon of this walk is not simple
+      }
     }
     return false;
   }
 
   /// Ear-clips the polygon chain_ (closed by the chord back to chain_[0] unless `closed`). See close_gaps().
   bool fill_polygon(bool closed) {
-    const std::size_t m = chain_.size();
+    const std::size_t m = chain_n_;
     // Clockwise in projection (the gap is on the right of the border walk): the chain's shoelace sum (summed in walk
     // order by close_gap_from) plus the closing edge.
-    const P2 &last = chain_p2_.back(), &first = chain_p2_.front();
+    const P2 &last = chain_p2_[m - 1], &first = chain_p2_[0];
     const double area2 = chain_area2_ + (last.x() * first.y() - last.y() * first.x());
     if (area2 >= -kEps) return false;
-    // Simple: no two non-adjacent polygon edges cross.
-    for (std::size_t i = 0; i < m; ++i)
-      for (std::size_t j = i + 2; j < m; ++j) {
-        if (i == 0 && j == m - 1) continue;
-        if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[j + 1 == m ? 0 : j + 1])) return false;
-      }
+    // Simple: no two non-adjacent polygon edges cross. Edge j is c_j → c_j+1 (mod m); the pairs of chain edges
+    // (j < m − 1) are checked once per walk (chain_checked_), the closing edge j = m − 1 every time.
+    for (std::size_t j = chain_checked_; j + 1 < m; ++j)
+      for (std::size_t i = 0; i + 2 <= j; ++i)
+        if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[j], chain_p2_[j + 1])) {
+          chain_crossed_ = true;
+          return false;
+        }
+    chain_checked_ = m - 1;
+    for (std::size_t i = 1; i + 3 <= m; ++i)
+      if (cross(chain_p2_[i], chain_p2_[i + 1], chain_p2_[m - 1], chain_p2_[0])) return false;
     // No other local vertex inside (winding number in projection; zero for a point below or on/above the polygon's
     // y range, where no edge passes the crossing conditions).
     double min_y = chain_p2_[0].y(), max_y = min_y;
@@ -423,7 +489,8 @@ private:
       const P2& pq = local_p2_[iq];
       if (pq.y() < min_y || pq.y() >= max_y) continue;
       const VertexId q = local_[iq];
-      if (std::find(chain_.begin(), chain_.end(), q) != chain_.end()) continue;
+      const auto chain_end = chain_.begin() + static_cast<std::ptrdiff_t>(m);
+      if (std::find(chain_.begin(), chain_end, q) != chain_end) continue;
       int wind = 0;
       for (std::size_t i = 0; i < m; ++i) {
         const P2& a = chain_p2_[i];
@@ -473,7 +540,7 @@ private:
     const VertexId a = chain_[ring_[0]], b = chain_[ring_[1]], c = chain_[ring_[2]];
     if (orient(chain_p2_[ring_[0]], chain_p2_[ring_[1]], chain_p2_[ring_[2]]) <= kEps || !gap_face_ok(a, b, c, closed))
       return false;
-    if (!closed && (pos_[chain_.front()] - pos_[chain_.back()]).squaredNorm() > r2) return false;
+    if (!closed && (pos_[chain_[0]] - pos_[chain_[m - 1]]).squaredNorm() > r2) return false;
     ears_.push_back({a, b, c});
     for (const auto& t : ears_) {
       fs_.add(t[0], t[1], t[2], scan_);
@@ -485,7 +552,7 @@ private:
   /// gaps are often near-collinear slivers whose 3D normal is meaningless. Notch faces must also agree with v's
   /// normal and not be slivers.
   [[nodiscard]] bool gap_face_ok(VertexId a, VertexId b, VertexId c, bool closed) const {
-    return (closed || (normal_agrees(a, b, c) && min_angle(a, b, c) >= 0.25 * s_.min_angle_rad)) &&
+    return (closed || (normal_agrees(a, b, c) && angles_at_least(a, b, c, notch_angle_))) &&
            fs_.face_with(a, b) == FaceStore::kNoFace && fs_.face_with(b, c) == FaceStore::kNoFace &&
            fs_.face_with(c, a) == FaceStore::kNoFace;
   }
@@ -529,6 +596,7 @@ private:
   std::uint32_t scan_ = 0;
   Vec3 n_ = Vec3::UnitZ(), u_ = Vec3::UnitX(), w_ = Vec3::UnitY();
   double inv_r_ = 1.0;
+  AngleBound fan_angle_, notch_angle_;  ///< min_angle_rad and 0.25 min_angle_rad (gap_face_ok)
   int touched_ = 0;
   std::vector<VertexId> local_;
   std::vector<P2> local_p2_;
@@ -549,7 +617,10 @@ private:
   std::vector<BorderMemo> border_;  ///< per vertex
   std::vector<FanCandidate> vis_;
   std::vector<std::uint32_t> new_faces_;
-  std::vector<VertexId> chain_;
+  std::vector<VertexId> chain_;  ///< the border walk of close_gap_from: chain_n_ entries (chain_p2_: their projections)
+  std::size_t chain_n_ = 0;
+  std::size_t chain_checked_ = 0;  ///< the first chain_checked_ chain edges are pairwise checked (fill_polygon)
+  bool chain_crossed_ = false;     ///< two non-adjacent chain edges cross
   mutable std::vector<VertexId> pred_, succ_;  ///< next_border() scratch: x's neighbours before / after it per face.
   std::vector<P2> chain_p2_;
   double chain_area2_ = 0.0;  ///< Σ of x_i y_{i+1} − y_i x_{i+1} over the edges of chain_p2_, in order.
