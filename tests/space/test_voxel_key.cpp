@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <tuple>
 #include <random>
 
+#include "nbs/space/detail/key_slots.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 using nbs::VoxelKey;
@@ -54,4 +57,30 @@ TEST_CASE("VoxelGrid::in_voxel(p, k) is key_of(p) == k", "[space][key]") {
   }
   REQUIRE_FALSE(g.in_voxel(nbs::Vec3(nan, 0, 0), VoxelKey{0, 0, 0}));
   REQUIRE_FALSE(g.in_voxel(nbs::Vec3(0, 0, 1e9), VoxelKey{0, 0, VoxelKey::kMaxIndex}));
+}
+
+TEST_CASE("KeySlots: dense and hashed modes agree with a std::map oracle; keys outside the box are ignored",
+          "[space]") {
+  const nbs::KeyBox box{{-3, 2, -5}, {4, 6, 1}};  // 8 x 5 x 7 = 280 voxels
+  for (const std::size_t limit : {std::size_t{1000}, std::size_t{100}}) {
+    nbs::detail::KeySlots slots(box, limit);
+    CHECK(slots.dense() == (limit == 1000));
+    std::map<std::tuple<int, int, int>, std::int32_t> oracle;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> coord(-7, 8);
+    for (std::int32_t i = 0; i < 400; ++i) {
+      const nbs::VoxelKey k{coord(rng), coord(rng), coord(rng)};
+      slots.assign(k, i);
+      if (box.contains(k)) oracle[{k.x, k.y, k.z}] = i;
+    }
+    REQUIRE(!oracle.empty());
+    for (int x = -8; x <= 9; ++x)
+      for (int y = -8; y <= 9; ++y)
+        for (int z = -8; z <= 9; ++z) {
+          const auto it = oracle.find({x, y, z});
+          CHECK(slots.find({x, y, z}) == (it == oracle.end() ? nbs::detail::KeySlots::kNone : it->second));
+        }
+  }
+  const nbs::detail::KeySlots none(nbs::KeyBox{});
+  CHECK(none.find({0, 0, 0}) == nbs::detail::KeySlots::kNone);
 }

@@ -5,11 +5,15 @@
 /// A vertex belongs to the voxel containing it; an edge to the voxel containing its midpoint. Only vertices that
 /// belong to a triangle count.
 
+#include <algorithm>
+#include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
+#include <vector>
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/mesh/density.hpp"
+#include "nbs/space/detail/key_slots.hpp"
 #include "nbs/space/surface_features.hpp"
 #include "nbs/space/voxel_key.hpp"
 
@@ -17,47 +21,76 @@ namespace nbs {
 
 using SurfaceFeatureTable = std::unordered_map<VoxelKey, SurfaceFeatures, VoxelKeyHash>;
 
-/// Features of the voxels of `grid` that hold a mesh vertex; when `only` is non-null, just those voxels. O(V + F);
-/// twin lookups only for the edges of the wanted voxels.
+/// Features of the voxels of `grid` that hold a mesh vertex; when `only` is non-null, just those voxels. O(V + F)
+/// with array lookups (detail::KeySlots over the key box of the wanted voxels); twin lookups only for the edges of
+/// the wanted voxels. Sums run in ascending vertex order.
 template <DensityMesh M>
 [[nodiscard]] SurfaceFeatureTable compute_surface_features(const M& mesh, const VoxelGrid& grid,
                                                            const std::unordered_set<VoxelKey, VoxelKeyHash>* only = nullptr) {
   struct Acc {
+    VoxelKey key;
     double density = 0.0;
     Vec3 normal = Vec3::Zero();
     std::size_t vertices = 0, edges = 0, border = 0;
   };
-  std::unordered_map<VoxelKey, Acc, VoxelKeyHash> acc;
+  // Vertices in a triangle, with their voxel keys; the key box of the wanted voxels.
   std::vector<char> used(mesh.vertex_count(), 0);
   mesh.for_each_face([&](const MeshFace& f) { used[f.a] = used[f.b] = used[f.c] = 1; });
+  std::vector<VoxelKey> vkey(used.size());
+  KeyBox box;
   for (std::size_t i = 0; i < used.size(); ++i) {
     if (!used[i]) continue;
+    const auto k = grid.key_of(mesh.position(static_cast<VertexId>(i)));
+    if (!k) {
+      used[i] = 0;
+      continue;
+    }
+    vkey[i] = *k;
+    if (!only) box.extend(*k);
+  }
+  if (only)
+    for (const VoxelKey& k : *only) box.extend(k);
+  constexpr std::int32_t kWanted = -2;  // a wanted voxel without a vertex yet
+  detail::KeySlots slot(box);
+  if (only)
+    for (const VoxelKey& k : *only) slot.assign(k, kWanted);
+  std::vector<Acc> acc;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    if (!used[i]) continue;
+    const VoxelKey& k = vkey[i];
+    std::int32_t s = slot.find(k);
+    if (only && s == detail::KeySlots::kNone) continue;
+    if (s < 0) {
+      s = static_cast<std::int32_t>(acc.size());
+      acc.push_back({k});
+      slot.assign(k, s);
+    }
+    Acc& a = acc[static_cast<std::size_t>(s)];
     const auto v = static_cast<VertexId>(i);
-    const auto k = grid.key_of(mesh.position(v));
-    if (!k || (only && !only->count(*k))) continue;
-    Acc& a = acc[*k];
     a.density += mesh.relative_density(v);
     a.normal += mesh.normal(v);
     ++a.vertices;
   }
   // The edges of for_each_edge, read off the faces: edge a→b of a face is counted there if a < b, or if no face holds
-  // b→a (a border edge of this face alone). The mesh is asked for the twin only when the midpoint's voxel is wanted.
+  // b→a (a border edge of this face alone). The mesh is asked for the twin only when the midpoint's voxel has a slot.
   mesh.for_each_face([&](const MeshFace& f) {
     const VertexId t[3] = {f.a, f.b, f.c};
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
       const auto key = grid.key_of(0.5 * (mesh.position(a) + mesh.position(b)));
       if (!key) continue;
-      const auto it = acc.find(*key);
-      if (it == acc.end()) continue;
+      const std::int32_t s = slot.find(*key);
+      if (s < 0) continue;
       const bool twin = mesh.left_vertex(b, a) != kNoVertex;
       if (a > b && twin) continue;  // counted by the twin face
-      ++it->second.edges;
-      it->second.border += twin ? 0 : 1;
+      Acc& e = acc[static_cast<std::size_t>(s)];
+      ++e.edges;
+      e.border += twin ? 0 : 1;
     }
   });
   SurfaceFeatureTable out;
-  for (const auto& [k, a] : acc) {
+  out.reserve(acc.size());
+  for (const Acc& a : acc) {
     SurfaceFeatures f;
     f.mean_density = static_cast<float>(std::clamp(a.density / static_cast<double>(a.vertices), 0.0, 1.0));
     Vec3 n = a.normal / static_cast<double>(a.vertices);
@@ -65,7 +98,7 @@ template <DensityMesh M>
     f.mean_normal = n.cast<float>();
     if (f.mean_normal.norm() > 1.0f) f.mean_normal /= f.mean_normal.norm() * (1.0f + 1e-6f);
     f.border_share = a.edges > 0 ? static_cast<float>(static_cast<double>(a.border) / static_cast<double>(a.edges)) : 0.0f;
-    out.emplace(k, f);
+    out.emplace(a.key, f);
   }
   return out;
 }
