@@ -78,6 +78,36 @@ TEST_CASE("completeness equals the brute-force count, and the incremental tracke
   CHECK(full.c_b() == one_shot.c_b());
 }
 
+TEST_CASE("CoverageTracker: vertex-driven and sample-driven adds both give the brute-force flags", "[sim][completeness]") {
+  const IndexedMesh cube = test::box_mesh({0, 0, 0}, {0.1, 0.1, 0.1});
+  const SurfaceSamples s = sample_surface(cube, 4000, 5);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.01, 0.11);
+  const double r = 0.008;
+  CoverageTracker tracker(s, r);
+  std::vector<Vec3> model;
+  // Batches of 1 vertex (4000 uncovered >= 8 per vertex: vertex-driven) first, then growing batches until the
+  // uncovered samples are fewer than 8 per new vertex (sample-driven); the flags are checked after every add.
+  int vertex_driven = 0, sample_driven = 0;
+  for (const std::size_t batch : {1, 1, 1, 5, 20, 50, 200, 400, 800, 1600}) {
+    std::size_t uncovered = 0;
+    for (bool c : tracker.covered()) uncovered += c ? 0 : 1;
+    (uncovered < CoverageTracker::kSampleDrivenRatio * batch ? sample_driven : vertex_driven) += 1;
+    std::vector<Vec3> fresh(batch);
+    for (auto& v : fresh) v = Vec3(u(rng), u(rng), u(rng));
+    tracker.add(fresh);
+    model.insert(model.end(), fresh.begin(), fresh.end());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      bool hit = false;
+      for (const Vec3& v : model) hit = hit || (v - s.points[i]).squaredNorm() <= r * r;
+      REQUIRE(tracker.covered()[i] == hit);
+    }
+  }
+  CHECK(vertex_driven >= 3);
+  CHECK(sample_driven >= 2);
+  CHECK(tracker.completeness().covered == brute_force_covered(s, model, r));
+}
+
 TEST_CASE("c_a excludes the bottom, c_b includes it", "[sim][completeness]") {
   const IndexedMesh cube = test::box_mesh({0, 0, 0}, {0.1, 0.1, 0.1});
   const SurfaceSamples s = sample_surface(cube, 3000, 2);

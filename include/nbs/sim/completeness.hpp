@@ -57,14 +57,18 @@ struct Completeness {
   return count_completeness(samples, std::vector<bool>(hit.begin(), hit.end()));
 }
 
-/// Incremental completeness for a growing model: a kd-tree over the samples; `add` marks every sample within r of
-/// each new model vertex. After adding the vertex set V, the flags equal those of `completeness(samples, V, r)`
-/// (the relation |v − s| ≤ r is symmetric). Borrows nothing. Not thread-safe for concurrent `add`.
+/// Incremental completeness for a growing model: `add` marks every sample within r of each new model vertex. After
+/// adding the vertex set V, the flags equal those of `completeness(samples, V, r)` (the relation |v − s| ≤ r is
+/// symmetric). Each `add` takes the cheaper direction: with many uncovered samples, one radius query per new vertex
+/// in a kd-tree over the samples; with few (fewer than kSampleDrivenRatio per new vertex), one query per uncovered
+/// sample in a kd-tree over the new vertices. Borrows nothing. Not thread-safe for concurrent `add`.
 class CoverageTracker {
 public:
+  static constexpr std::size_t kSampleDrivenRatio = 8;
+
   /// Throws InvalidArgument if r is not finite and > 0 or the samples are empty.
   CoverageTracker(const SurfaceSamples& samples, double radius_m)
-      : samples_(samples), radius_m_(radius_m), covered_(samples.size(), false) {
+      : samples_(samples), radius_m_(radius_m), covered_(samples.size(), false), uncovered_(samples.size()) {
     detail::require_positive("CoverageTracker radius_m", radius_m);
     detail::require(samples.size() > 0, "CoverageTracker: no samples");
     tree_ = detail::PointKdTree(samples.points);
@@ -73,8 +77,17 @@ public:
   /// Marks samples covered by `model_vertices`. Throws InvalidArgument (before any change) on a non-finite vertex.
   void add(std::span<const Vec3> model_vertices) {
     for (std::size_t i = 0; i < model_vertices.size(); ++i) validate_finite(model_vertices[i], "model vertex");
+    if (model_vertices.empty()) return;
+    if (uncovered_ < kSampleDrivenRatio * model_vertices.size()) {
+      const detail::PointKdTree fresh(std::vector<Vec3>(model_vertices.begin(), model_vertices.end()));
+      for (std::size_t s = 0; s < covered_.size(); ++s)
+        if (!covered_[s] && fresh.any_within(samples_.points[s], radius_m_)) mark(s);
+      return;
+    }
     for (const Vec3& v : model_vertices)
-      tree_.for_each_within(v, radius_m_, [&](std::size_t s, double) { covered_[s] = true; });
+      tree_.for_each_within(v, radius_m_, [&](std::size_t s, double) {
+        if (!covered_[s]) mark(s);
+      });
   }
 
   [[nodiscard]] const std::vector<bool>& covered() const { return covered_; }
@@ -82,9 +95,15 @@ public:
   [[nodiscard]] double radius_m() const { return radius_m_; }
 
 private:
+  void mark(std::size_t s) {
+    covered_[s] = true;
+    --uncovered_;
+  }
+
   SurfaceSamples samples_;
   double radius_m_;
   std::vector<bool> covered_;
+  std::size_t uncovered_;
   detail::PointKdTree tree_;
 };
 
