@@ -82,9 +82,11 @@ public:
     return touched_;
   }
 
-  /// Heap bytes of the per-vertex marks and border memo (20 B per vertex); the other scratch buffers are bounded by the patch size.
+  /// Heap bytes of the per-vertex marks and border memo (20 B per vertex) and the face marks (4 B per face); the other
+  /// scratch buffers are bounded by the patch size.
   [[nodiscard]] std::size_t memory_bytes() const {
-    return (mark_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + border_.capacity() * sizeof(BorderMemo);
+    return (mark_.capacity() + slot_.capacity() + face_mark_.capacity()) * sizeof(std::uint32_t) +
+           border_.capacity() * sizeof(BorderMemo);
   }
 
 private:
@@ -163,10 +165,18 @@ private:
 
   void collect_local_faces() {
     faces_.clear();
+    if (++face_gen_ == 0) {  // wrapped: forget every old mark
+      std::fill(face_mark_.begin(), face_mark_.end(), 0u);
+      face_gen_ = 1;
+    }
+    if (face_mark_.size() < fs_.face_count()) face_mark_.resize(fs_.face_count(), 0);
     for (VertexId q : local_)
-      for (std::uint32_t f : fs_.faces_of(q)) faces_.push_back(f);
+      for (std::uint32_t f : fs_.faces_of(q))
+        if (face_mark_[f] != face_gen_) {  // each face once, then in id order
+          face_mark_[f] = face_gen_;
+          faces_.push_back(f);
+        }
     std::sort(faces_.begin(), faces_.end());
-    faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
     // Distinct corners with their projections, computed once for split_containing_face() and fan().
     next_generation();
     verts_.clear();
@@ -481,16 +491,13 @@ private:
     // No other local vertex inside (winding number in projection; zero for a point below or on/above the polygon's
     // y range, where no edge passes the crossing conditions).
     double min_y = chain_p2_[0].y(), max_y = min_y;
-    for (const P2& c : chain_p2_) {
-      min_y = std::min(min_y, c.y());
-      max_y = std::max(max_y, c.y());
+    for (std::size_t i = 1; i < m; ++i) {
+      min_y = std::min(min_y, chain_p2_[i].y());
+      max_y = std::max(max_y, chain_p2_[i].y());
     }
     for (std::size_t iq = 0; iq < local_.size(); ++iq) {
       const P2& pq = local_p2_[iq];
       if (pq.y() < min_y || pq.y() >= max_y) continue;
-      const VertexId q = local_[iq];
-      const auto chain_end = chain_.begin() + static_cast<std::ptrdiff_t>(m);
-      if (std::find(chain_.begin(), chain_end, q) != chain_end) continue;
       int wind = 0;
       for (std::size_t i = 0; i < m; ++i) {
         const P2& a = chain_p2_[i];
@@ -501,7 +508,9 @@ private:
           --wind;
         }
       }
-      if (wind != 0) return false;
+      if (wind == 0) continue;
+      const auto chain_end = chain_.begin() + static_cast<std::ptrdiff_t>(m);  // the polygon's own corners do not count
+      if (std::find(chain_.begin(), chain_end, local_[iq]) == chain_end) return false;
     }
     // Ear clipping on the reversed (counter-clockwise) polygon; faces are collected first, added at the end.
     ring_.clear();
@@ -609,6 +618,8 @@ private:
   /// is marked iff mark_[v] == gen_.
   std::vector<std::uint32_t> mark_, slot_;
   std::uint32_t gen_ = 0;
+  std::vector<std::uint32_t> face_mark_;  ///< per face: face_gen_ once collected by collect_local_faces()
+  std::uint32_t face_gen_ = 0;
   struct BorderMemo {
     VertexId next = kNoVertex;  ///< next_border() of the vertex
     std::uint32_t version = 0;  ///< FaceStore::version() it was computed at
