@@ -193,6 +193,43 @@ TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
   }
 }
 
+namespace {
+/// A StreamingMesh seen through the EdgeMesh + DensityMesh members only (no KnowsFaceBorders, no M_cur).
+struct PlainView {
+  const nbs::StreamingMesh* m;
+  std::size_t vertex_count() const { return m->vertex_count(); }
+  const Vec3& position(nbs::VertexId v) const { return m->position(v); }
+  const Vec3& normal(nbs::VertexId v) const { return m->normal(v); }
+  std::size_t face_count() const { return m->face_count(); }
+  nbs::VertexId left_vertex(nbs::VertexId a, nbs::VertexId b) const { return m->left_vertex(a, b); }
+  template <class F> void for_each_edge(F&& f) const { m->for_each_edge(f); }
+  template <class F> void for_each_face(F&& f) const { m->for_each_face(f); }
+  double relative_density(nbs::VertexId v) const { return m->relative_density(v); }
+};
+static_assert(nbs::DensityMesh<PlainView> && !nbs::KnowsFaceBorders<PlainView>);
+}  // namespace
+
+TEST_CASE("surface features from the border bits equal those from left_vertex lookups", "[mesh]") {
+  const nbs::test::PlanePatch plane(0.03, 0.03);
+  nbs::StreamingMesh mesh;
+  mesh.integrate(nbs::test::scan_path(plane, down_at(0, 0.03, 0.15), 0.03, nbs::test::StripeSensor{}, 21));
+  mesh.integrate(nbs::test::scan_path(plane, down_at(0, 0.0, 0.15), 0.03, nbs::test::StripeSensor{}, 22));
+  const nbs::VoxelGrid grid(0.004);
+  const auto fast = nbs::compute_surface_features(mesh, grid);
+  const auto plain = nbs::compute_surface_features(PlainView{&mesh}, grid);
+  REQUIRE(fast.size() == plain.size());
+  std::size_t with_border = 0;
+  for (const auto& [k, f] : plain) {
+    const auto it = fast.find(k);
+    REQUIRE(it != fast.end());
+    CHECK(it->second.border_share == f.border_share);
+    CHECK(it->second.mean_density == f.mean_density);
+    CHECK(it->second.mean_normal == f.mean_normal);
+    with_border += f.border_share > 0.0f ? 1 : 0;
+  }
+  CHECK(with_border > 0);
+}
+
 TEST_CASE("PLY export round-trips through the reader; IndexedMesh conversion keeps faces", "[mesh]") {
   nbs::test::PlanePatch plane(0.01, 0.01);
   nbs::StreamingMesh mesh;

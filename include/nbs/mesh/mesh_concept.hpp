@@ -63,4 +63,13 @@ concept ListsCurrentFaces = TracksCurrentScan<M> && requires(const M& m, void (*
   m.for_each_current_face(face_fn);
 };
 
+/// Optional capability: per-face border bits, face(f) being the f-th face of for_each_face: bit k of
+/// border_mask(f) is set iff the edge (t[k], t[k+1]) of f = (t[0], t[1], t[2]) has no twin (left_vertex(t[k+1], t[k])
+/// == kNoVertex), so border tests need no adjacency lookup.
+template <class M>
+concept KnowsFaceBorders = EdgeMesh<M> && requires(const M& m, std::size_t f) {
+  { m.face(f) } -> std::convertible_to<MeshFace>;
+  { m.border_mask(f) } -> std::convertible_to<unsigned>;
+};
+
 }  // namespace nbs

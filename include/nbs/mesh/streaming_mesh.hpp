@@ -128,6 +128,8 @@ public:
     const auto& t = faces_.face(static_cast<std::uint32_t>(f));
     return {t[0], t[1], t[2]};
   }
+  /// Bit k set iff edge (t[k], t[k+1]) of face f has no twin (KnowsFaceBorders); up to date after every insert.
+  [[nodiscard]] unsigned border_mask(std::size_t f) const { return faces_.border_mask(static_cast<std::uint32_t>(f)); }
   template <class F>
   void for_each_face(F&& f) const {
     for (std::uint32_t i = 0; i < faces_.face_count(); ++i) {
@@ -508,5 +510,6 @@ inline void StreamingMesh::triangulate(VertexId v) {
 
 static_assert(EdgeMesh<StreamingMesh>);
 static_assert(TracksCurrentScan<StreamingMesh>);
+static_assert(KnowsFaceBorders<StreamingMesh>);
 
 }  // namespace nbs

@@ -72,22 +72,35 @@ template <DensityMesh M>
     ++a.vertices;
   }
   // The edges of for_each_edge, read off the faces: edge a→b of a face is counted there if a < b, or if no face holds
-  // b→a (a border edge of this face alone). The mesh is asked for the twin only when the midpoint's voxel has a slot.
-  mesh.for_each_face([&](const MeshFace& f) {
-    const VertexId t[3] = {f.a, f.b, f.c};
-    for (int k = 0; k < 3; ++k) {
-      const VertexId a = t[k], b = t[(k + 1) % 3];
-      const auto key = grid.key_of(0.5 * (mesh.position(a) + mesh.position(b)));
-      if (!key) continue;
-      const std::int32_t s = slot.find(*key);
-      if (s < 0) continue;
-      const bool twin = mesh.left_vertex(b, a) != kNoVertex;
-      if (a > b && twin) continue;  // counted by the twin face
-      Acc& e = acc[static_cast<std::size_t>(s)];
-      ++e.edges;
-      e.border += twin ? 0 : 1;
+  // b→a (a border edge of this face alone). Whether b→a exists comes from the face's border bits when the mesh keeps
+  // them, else from left_vertex, asked only when the midpoint's voxel has a slot.
+  const auto count_edge = [&](const VertexId a, const VertexId b, auto&& has_twin) {
+    const auto key = grid.key_of(0.5 * (mesh.position(a) + mesh.position(b)));
+    if (!key) return;
+    const std::int32_t s = slot.find(*key);
+    if (s < 0) return;
+    const bool twin = has_twin();
+    if (a > b && twin) return;  // counted by the twin face
+    Acc& e = acc[static_cast<std::size_t>(s)];
+    ++e.edges;
+    e.border += twin ? 0 : 1;
+  };
+  if constexpr (KnowsFaceBorders<M>) {
+    for (std::size_t i = 0; i < mesh.face_count(); ++i) {
+      const MeshFace f = mesh.face(i);
+      const unsigned border = mesh.border_mask(i);
+      const VertexId t[3] = {f.a, f.b, f.c};
+      for (int k = 0; k < 3; ++k) count_edge(t[k], t[(k + 1) % 3], [&] { return !((border >> k) & 1u); });
     }
-  });
+  } else {
+    mesh.for_each_face([&](const MeshFace& f) {
+      const VertexId t[3] = {f.a, f.b, f.c};
+      for (int k = 0; k < 3; ++k) {
+        const VertexId a = t[k], b = t[(k + 1) % 3];
+        count_edge(a, b, [&] { return mesh.left_vertex(b, a) != kNoVertex; });
+      }
+    });
+  }
   SurfaceFeatureTable out;
   out.reserve(acc.size());
   for (const Acc& a : acc) {
