@@ -386,13 +386,15 @@ private:
   }
 
   /// next_border(x), memoised per vertex until x's faces change (FaceStore::version).
+  /// border_ covers every vertex (close_gaps sizes it).
   [[nodiscard]] VertexId next_border_cached(VertexId x) {
-    if (border_.size() <= x) border_.resize(std::max(pos_.size(), std::size_t{x} + 1));
-    BorderMemo& m = border_[x];
-    const std::uint32_t version = fs_.version(x);
-    if (m.valid && m.version == version) return m.next;
-    m = {next_border(x), version, true};
-    return m.next;
+    const BorderMemo& m = border_[x];
+    if (m.valid && m.version == fs_.version(x)) return m.next;
+    return update_border_memo(x);
+  }
+  [[gnu::noinline]] VertexId update_border_memo(VertexId x) {
+    border_[x] = {next_border(x), fs_.version(x), true};
+    return border_[x].next;
   }
   /// Border edge x→y (its face on the left, none on the right) leaving x, first found; kNoVertex if none.
   /// A face holding y→x also holds x, so "no face on the right" is checked among x's own faces: y is not the
@@ -426,6 +428,7 @@ private:
       chain_.resize(cap);
       chain_p2_.resize(cap);
     }
+    if (border_.size() < pos_.size()) border_.resize(pos_.size());
     std::vector<VertexId>& cand = local_;
     cand.push_back(v_);
     local_p2_.push_back(project(v_));  // local_p2_[i] = project(local_[i]) stays true
@@ -460,8 +463,9 @@ private:
       chain_p2_[chain_n_] = py;
       ++chain_n_;
       const double chord2 = (pos_[y] - pos_[x]).squaredNorm();
+      // fill_polygon's clockwise test first (the cheapest reject; all of them only reject).
       if (k >= 2 && chord2 <= r2 && length * length >= s_.min_notch_ratio * s_.min_notch_ratio * chord2 &&
-          !fs_.has_edge(x, y)) {
+          clockwise() && !fs_.has_edge(x, y)) {
         if (fill_polygon(false)) return true;
         if (chain_crossed_) return false;  // two chain edges cross: every longer polygon of this walk is not simple
       }
@@ -469,14 +473,16 @@ private:
     return false;
   }
 
+  /// The polygon chain_ is clockwise in projection (the gap is on the right of the border walk): the chain's shoelace
+  /// sum (summed in walk order by close_gap_from) plus the closing edge.
+  [[nodiscard]] bool clockwise() const {
+    const P2 &last = chain_p2_[chain_n_ - 1], &first = chain_p2_[0];
+    return !(chain_area2_ + (last.x() * first.y() - last.y() * first.x()) >= -kEps);
+  }
   /// Ear-clips the polygon chain_ (closed by the chord back to chain_[0] unless `closed`). See close_gaps().
   bool fill_polygon(bool closed) {
     const std::size_t m = chain_n_;
-    // Clockwise in projection (the gap is on the right of the border walk): the chain's shoelace sum (summed in walk
-    // order by close_gap_from) plus the closing edge.
-    const P2 &last = chain_p2_[m - 1], &first = chain_p2_[0];
-    const double area2 = chain_area2_ + (last.x() * first.y() - last.y() * first.x());
-    if (area2 >= -kEps) return false;
+    if (!clockwise()) return false;
     // Simple: no two non-adjacent polygon edges cross. Edge j is c_j → c_j+1 (mod m); the pairs of chain edges
     // (j < m − 1) are checked once per walk (chain_checked_), the closing edge j = m − 1 every time.
     for (std::size_t j = chain_checked_; j + 1 < m; ++j)
