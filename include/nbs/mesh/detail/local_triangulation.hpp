@@ -401,16 +401,15 @@ private:
   /// predecessor of x in any of them.
   [[nodiscard]] VertexId next_border(VertexId x) const {
     const auto& fx = fs_.faces_of(x);
-    pred_.clear();
-    succ_.clear();
-    for (std::uint32_t f : fx) {
+    auto after = [&](std::uint32_t f, int step) {  // the corner `step` places after x in face f
       const auto& t = fs_.face(f);
       const int k = t[0] == x ? 0 : (t[1] == x ? 1 : 2);
-      succ_.push_back(t[(k + 1) % 3]);
-      pred_.push_back(t[(k + 2) % 3]);
+      return t[(k + step) % 3];
+    };
+    for (std::uint32_t f : fx) {
+      const VertexId y = after(f, 1);
+      if (std::none_of(fx.begin(), fx.end(), [&](std::uint32_t g) { return after(g, 2) == y; })) return y;
     }
-    for (VertexId y : succ_)
-      if (std::find(pred_.begin(), pred_.end(), y) == pred_.end()) return y;
     return kNoVertex;
   }
   /// Closes the gaps the fan left: Bodenmüller joins every pair of vertices within R_m, so a border loop or a border
@@ -638,7 +637,6 @@ private:
   std::size_t chain_n_ = 0;
   std::size_t chain_checked_ = 0;  ///< the first chain_checked_ chain edges are pairwise checked (fill_polygon)
   bool chain_crossed_ = false;     ///< two non-adjacent chain edges cross
-  mutable std::vector<VertexId> pred_, succ_;  ///< next_border() scratch: x's neighbours before / after it per face.
   std::vector<P2> chain_p2_;
   double chain_area2_ = 0.0;  ///< Σ of x_i y_{i+1} − y_i x_{i+1} over the edges of chain_p2_, in order.
   std::vector<std::uint32_t> ring_;
