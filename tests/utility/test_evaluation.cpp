@@ -335,6 +335,43 @@ TEST_CASE("the snapshot path feeds the same visits as space.cast_ray (log-odds a
   }
 }
 
+// A Recorder that declares that it ignores repeated visits (visits_first_only).
+struct FirstOnlyRecorder : Recorder {
+  [[nodiscard]] bool first_visits_only() const { return true; }
+};
+
+TEST_CASE("a term that ignores repeated visits gets exactly the first visits of space.cast_ray, fields unchanged",
+          "[utility][evaluation]") {
+  CHECK(visits_first_only(FirstOnlyRecorder{}));
+  CHECK(!visits_first_only(Recorder{}));
+  CHECK(visits_first_only(WeightedUtility()));
+  CHECK(visits_first_only(VolumetricEntropy()));
+  CHECK(!visits_first_only(VolumetricEntropy({1.0, false})));
+  CHECK(!visits_first_only(WeightedUtility({1.0, 0.5, 0.7, 1.0, false})));
+  CHECK(!visits_first_only(OcclusionAwareVI()));
+  CHECK(visits_first_only(TermSet<VolumetricEntropy, SurfaceQuality>()));
+  CHECK(!visits_first_only(TermSet<VolumetricEntropy, OcclusionAwareVI>()));
+  const auto space = thesis_slab_space();
+  auto lsp = small_lsp();
+  lsp.points_per_profile = 33;
+  for (const RaySampling sampling : {RaySampling{1, 1}, RaySampling{2, 3}}) {
+    Recorder::Log fast, slow;
+    EvaluationSetting es = nbs_test::threads(1);
+    es.sampling = sampling;
+    FirstOnlyRecorder f;
+    f.log = &fast;
+    const auto rf = evaluate_candidates(mixed_candidates(), lsp, space, f, es);
+    const auto rs = evaluate_candidates(mixed_candidates(), lsp, CastRayOnly<ProbabilisticVoxelSpace<>>{&space},
+                                        Recorder{&slow}, es);
+    CHECK(rf.voxels == rs.voxels);
+    CHECK(rf.rays == rs.rays);
+    Recorder::Log firsts = slow;
+    std::erase_if(firsts.visits, [](const VoxelVisit& v) { return !v.first_visit; });
+    CHECK(firsts.visits.size() < slow.visits.size());  // repeated visits existed and were skipped
+    check_same_visits(fast, firsts);
+  }
+}
+
 TEST_CASE("thesis terms give bit-identical values through the snapshot and through space.cast_ray",
           "[utility][evaluation]") {
   const auto space = thesis_slab_space();

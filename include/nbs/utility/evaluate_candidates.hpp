@@ -127,7 +127,8 @@ struct EvaluationBuffers {
 
 /// Evaluates one candidate with `term` (reset by begin_candidate). With an enabled `snapshot`, rays are cast over it
 /// (the voxels, order and stop rule of space.cast_ray, see planning_snapshot.hpp); otherwise through
-/// space.cast_ray with per-voxel lookups. Both feed the term the same VoxelVisits.
+/// space.cast_ray with per-voxel lookups. Both feed the term the same VoxelVisits; over the snapshot, a term that
+/// ignores repeated visits (visits_first_only) gets only the first ones (cast_first_visits).
 template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
                   const PlanningSnapshot<Space>& snapshot, const RaySampling& sampling, Term& term,
@@ -145,10 +146,11 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
     const auto& features = space.features();
     const bool have_features = features.size() > 0;
     const VoxelGrid& grid = space.grid();
+    const bool first_only = fast && visits_first_only(term);
     for (const Ray& ray : buf.rays) {
       const Vec3 dir = (ray.end - ray.origin).normalized();
       std::uint32_t n = 0;
-      const auto emit = [&](const VoxelKey& k, const VoxelClass& c, bool first_visit) {
+      const auto emit_at = [&](const VoxelKey& k, const VoxelClass& c, bool first_visit, std::uint32_t at) {
         VoxelVisit v;
         v.key = k;
         v.probability = c.probability;
@@ -159,9 +161,10 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
         v.features = c.features;
         v.direction = dir;
         v.distance_m = (grid.center(k) - ray.origin).norm();
-        v.index = n++;
+        v.index = at;
         term.visit(v);
       };
+      const auto emit = [&](const VoxelKey& k, const VoxelClass& c, bool first_visit) { emit_at(k, c, first_visit, n++); };
       term.begin_ray();
       RaycastResult res;
       typename PlanningSnapshot<Space>::Clipped clipped;
@@ -169,7 +172,11 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
         detail::require(ray.origin.allFinite() && ray.end.allFinite(), "candidate ", index, ": ray is not finite");
         clipped = snapshot.clip(ray);
       }
-      if (fast && clipped.meets && clipped.inside) {
+      if (first_only && clipped.meets && clipped.inside) {
+        res = snapshot.cast_first_visits(clipped, buf.bits, [&](const VoxelKey& k, const VoxelClass& c, std::uint32_t at) {
+          emit_at(k, c, true, at);
+        });
+      } else if (fast && clipped.meets && clipped.inside) {
         res = snapshot.cast(clipped, [&](const VoxelKey& k, const VoxelClass& c, std::size_t box_index) {
           emit(k, c, buf.bits.insert(box_index));
           return true;

@@ -46,6 +46,8 @@ public:
     if (v.first_visit || !setting_.count_once) sum_ += v.entropy();
   }
   void end_ray(const RayEnd&) {}
+  /// True with count_once: visit() ignores repeated visits (visits_first_only).
+  [[nodiscard]] bool first_visits_only() const { return setting_.count_once; }
   /// e_v (bits per non-free voxel).
   [[nodiscard]] double value() const { return sum_ / setting_.non_free_voxels; }
   /// The unnormalised sum Σ H(p_i) in bits.
@@ -86,6 +88,8 @@ public:
                                setting_.lambda, setting_.cutoff_rad);
   }
   void end_ray(const RayEnd&) {}
+  /// True with count_once: visit() ignores repeated visits (visits_first_only).
+  [[nodiscard]] bool first_visits_only() const { return setting_.count_once; }
   /// m_s = Σ (1 − q_i) / N_v (Eq. 4.34 normalisation).
   [[nodiscard]] double value() const { return sum_ / setting_.non_free_voxels; }
   /// The unnormalised sum Σ (1 − q_i).
@@ -129,6 +133,8 @@ public:
   void visit(const VoxelVisit& v) { terms_.visit(v); }
   void end_ray(const RayEnd& e) { terms_.end_ray(e); }
   [[nodiscard]] double value() const { return weighted_utility(entropy(), modeling(), omega_); }
+  /// True with count_once (visits_first_only).
+  [[nodiscard]] bool first_visits_only() const { return terms_.first_visits_only(); }
   [[nodiscard]] double entropy() const { return terms_.get<0>().value(); }  ///< e_v, Eq. (4.32)
   [[nodiscard]] double modeling() const { return terms_.get<1>().value(); }  ///< m_s = Σ(1 − q_i)/N_v, Eq. (4.34)
   [[nodiscard]] double omega() const { return omega_; }

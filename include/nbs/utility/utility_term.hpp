@@ -39,6 +39,18 @@ template <class T>
   }
 }
 
+/// True if `t.visit(v)` changes nothing unless `v.first_visit` — the term says so with an optional const member
+/// `bool first_visits_only() const`. The evaluator then calls visit() only for first visits (fields unchanged,
+/// `index` still counts every voxel of the ray); begin_ray/end_ray are called as always.
+template <class T>
+[[nodiscard]] bool visits_first_only(const T& t) {
+  if constexpr (requires { { t.first_visits_only() } -> std::convertible_to<bool>; }) {
+    return static_cast<bool>(t.first_visits_only());
+  } else {
+    return false;
+  }
+}
+
 /// Several terms fed by one ray cast. `value()` is the value of the first term; read the others with `get<I>()`.
 /// Models UtilityTerm itself, so sets nest.
 template <UtilityTerm... Terms>
@@ -63,6 +75,10 @@ public:
     std::apply([&](auto&... t) { (t.end_ray(e), ...); }, terms_);
   }
   [[nodiscard]] double value() const { return static_cast<double>(std::get<0>(terms_).value()); }
+  /// True if every term ignores repeated visits (see visits_first_only).
+  [[nodiscard]] bool first_visits_only() const {
+    return std::apply([](const auto&... t) { return (visits_first_only(t) && ...); }, terms_);
+  }
 
   template <std::size_t I>
   [[nodiscard]] const auto& get() const {

@@ -61,6 +61,8 @@ public:
     w |= bit;
     return fresh;
   }
+  /// The bit words (bit i of the box index i lives in word i / 64, bit i % 64).
+  [[nodiscard]] std::uint64_t* words() { return words_.data(); }
 
 private:
   std::vector<std::uint64_t> words_;
@@ -118,9 +120,8 @@ public:
     RaycastResult res;
     SegmentWalker w(c.a, c.b);
     std::size_t idx = index(w.key());
-    const std::ptrdiff_t step[3] = {1, static_cast<std::ptrdiff_t>(nx_), static_cast<std::ptrdiff_t>(nx_ * ny_)};
     std::ptrdiff_t delta[3];
-    for (int a = 0; a < 3; ++a) delta[a] = w.sign(a) * step[a];
+    index_steps(w, delta);
     const std::uint32_t* ids = ids_.data();
     const VoxelClass* classes = classes_.data();
     for (;;) {
@@ -138,7 +139,49 @@ public:
     return res;
   }
 
+  /// The walk of cast() (same voxels, order and stop rule) for a visitor that needs only the first visit of each
+  /// voxel per candidate: `first(key, const VoxelClass&, n)` is called for the voxels whose bit in `visited` is clear
+  /// (the bit is then set), n being the voxel's position along the ray (0 for the first). Voxels already marked are
+  /// stepped over without a class lookup (the stop test reads a bit set of the occupied voxels). res.voxels counts
+  /// every voxel stepped into.
+  template <class First>
+  [[gnu::flatten]] RaycastResult cast_first_visits(const Clipped& c, VisitedBits& visited, First&& first) const {
+    RaycastResult res;
+    SegmentWalker w(c.a, c.b);
+    std::size_t idx = index(w.key());
+    std::ptrdiff_t delta[3];
+    index_steps(w, delta);
+    std::uint64_t* seen = visited.words();
+    const std::uint64_t* occupied = occupied_.data();
+    const std::uint32_t* ids = ids_.data();
+    const VoxelClass* classes = classes_.data();
+    for (std::uint32_t n = 0;; ++n) {
+      const std::size_t word = idx >> 6;
+      const std::uint64_t bit = std::uint64_t{1} << (idx & 63);
+      if ((seen[word] & bit) == 0) {
+        seen[word] |= bit;
+        first(w.key(), classes[ids[idx]], n);
+      }
+      if ((occupied[word] & bit) != 0 || w.remaining() == 0) {
+        res.voxels = n + 1;
+        if ((occupied[word] & bit) != 0) {
+          res.hit = true;
+          res.hit_key = w.key();
+        }
+        break;
+      }
+      idx = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(idx) + delta[w.step()]);
+    }
+    return res;
+  }
+
 private:
+  // Change of the box index when the walk w steps along each axis.
+  void index_steps(const SegmentWalker& w, std::ptrdiff_t (&delta)[3]) const {
+    const std::ptrdiff_t step[3] = {1, static_cast<std::ptrdiff_t>(nx_), static_cast<std::ptrdiff_t>(nx_ * ny_)};
+    for (int a = 0; a < 3; ++a) delta[a] = w.sign(a) * step[a];
+  }
+
   void build() {
     const Space& s = *space_;
     const auto& model = s.model();
@@ -193,6 +236,9 @@ private:
       classes_.clear();
       return;
     }
+    occupied_.assign((ids_.size() + 63) / 64, 0);
+    for (std::size_t i = 0; i < ids_.size(); ++i)
+      if (classes_[ids_[i]].occupied) occupied_[i >> 6] |= std::uint64_t{1} << (i & 63);
     enabled_ = true;
   }
 
@@ -232,6 +278,7 @@ private:
   std::uint64_t nx_ = 0, ny_ = 0;
   std::vector<std::uint32_t> ids_;
   std::vector<VoxelClass> classes_;
+  std::vector<std::uint64_t> occupied_;  // one bit per box voxel: classes_[ids_[i]].occupied
 };
 
 }  // namespace nbs::detail
