@@ -564,11 +564,12 @@ private:
   }
   /// A fill face of a closed loop only has to be counter-clockwise in v's tangent plane (checked by the caller): the
   /// gaps are often near-collinear slivers whose 3D normal is meaningless. Notch faces must also agree with v's
-  /// normal and not be slivers.
+  /// normal and not be slivers. Never the reverse of an existing face (the 3-edge "loop" around a lone triangle's
+  /// back would close it into a two-face pillow).
   [[nodiscard]] bool gap_face_ok(VertexId a, VertexId b, VertexId c, bool closed) const {
     return (closed || (normal_agrees(a, b, c) && angles_at_least(a, b, c, notch_angle_))) &&
            fs_.face_with(a, b) == FaceStore::kNoFace && fs_.face_with(b, c) == FaceStore::kNoFace &&
-           fs_.face_with(c, a) == FaceStore::kNoFace;
+           fs_.face_with(c, a) == FaceStore::kNoFace && fs_.left_vertex(b, a) != c;
   }
 
   /// Flips edges opposite v while the opposite vertex lies inside the circumcircle (Lawson), bounded by max_flips.
