@@ -4,6 +4,7 @@
 // moments and cached balls must only save work, never change a verdict.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -16,7 +17,7 @@ using nbs::Vec3;
 namespace {
 
 struct Reference {
-  double rr2, rn2;
+  double rr2, rn2, depth;
   nbs::detail::NormalRobustness rb;
   std::vector<Vec3> pos, nrm;
   std::vector<std::uint32_t> count, attempt;
@@ -40,9 +41,22 @@ struct Reference {
     nrm[v] = est.normal;
     return true;
   }
+  /// Density limitation: the R_r ball, and the cylinder of radius R_r and half-length `depth` along the line of
+  /// sight for stored points facing the same sensor side (normal against it, or while pending, line of sight along).
+  [[nodiscard]] bool too_close(const Vec3& p, const Vec3& dir) const {
+    for (std::size_t q = 0; q < pos.size(); ++q) {
+      const Vec3 d = pos[q] - p;
+      if (d.squaredNorm() < rr2) return true;
+      const double along = d.dot(dir);
+      const bool facing = nrm[q].squaredNorm() > 0.0 ? nrm[q].dot(dir) < 0.0 : los_of[q].dot(dir) > 0.0;
+      if (std::abs(along) < depth && (d - along * dir).squaredNorm() < rr2 && facing) return true;
+    }
+    return false;
+  }
+  std::vector<Vec3> los_of;
   void insert(const Vec3& p, const Vec3& los) {
-    for (const Vec3& q : pos)
-      if ((q - p).squaredNorm() < rr2) return;
+    if (too_close(p, los.normalized())) return;
+    los_of.push_back(los.normalized());
     const std::size_t v = pos.size();
     pos.push_back(p);
     nrm.push_back(Vec3::Zero());
@@ -66,11 +80,15 @@ struct Reference {
 TEST_CASE("normal stage: pending vertices, retries and verdicts equal a cache-free brute-force reference", "[mesh]") {
   // A 30 mm plane patch with range noise of 0.3 R_n to 0.45 R_n: many neighbourhoods are too thick for a tangent plane
   // (λ0/λ1 > 0.5), so many vertices stay pending and are retried as points arrive, and some become robust later.
-  for (const double sigma : {0.0012, 0.0018}) {
-    nbs::StreamingMesh mesh;
+  // Both density limitations: the R_r ball (default) and the ball + cylinder along the line of sight (depth R_n).
+  for (const double sigma : {0.0012, 0.0018})
+  for (const bool cylinder : {false, true}) {
+    nbs::StreamingMeshSettings settings = nbs::StreamingMeshSettings::from(nbs::Parameters{});
+    if (cylinder) settings.density_depth_m = settings.normal_radius_m;
+    nbs::StreamingMesh mesh(settings);
     const auto& s = mesh.settings();
-    Reference ref{s.reduction_radius_m * s.reduction_radius_m, s.normal_radius_m * s.normal_radius_m, s.robustness,
-                  {}, {}, {}, {}, 0};
+    Reference ref{s.reduction_radius_m * s.reduction_radius_m, s.normal_radius_m * s.normal_radius_m,
+                  s.density_depth_m, s.robustness, {}, {}, {}, {}, 0, {}};
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-0.015, 0.015);
     std::normal_distribution<double> n(0.0, sigma);
@@ -81,12 +99,12 @@ TEST_CASE("normal stage: pending vertices, retries and verdicts equal a cache-fr
       (void)mesh.insert(p, los);
       ref.insert(p, los);
     }
-    INFO("sigma " << sigma);
+    INFO("sigma " << sigma << " cylinder " << cylinder);
     REQUIRE(mesh.vertex_count() == ref.pos.size());
     std::size_t pending = 0, meshed = 0;
     for (std::size_t v = 0; v < ref.pos.size(); ++v) {
       const auto id = static_cast<nbs::VertexId>(v);
-      REQUIRE(mesh.position(id) == ref.pos[v]);
+      REQUIRE(mesh.stored_position(id) == ref.pos[v]);
       REQUIRE(mesh.neighbour_count(id) == ref.count[v]);
       const bool ref_meshed = ref.nrm[v].squaredNorm() > 0.0;
       REQUIRE(mesh.has_normal(id) == ref_meshed);

@@ -38,6 +38,43 @@ TEST_CASE("plane: consistent, normals match, scanned region covered", "[mesh]") 
   CHECK(im.area() == Approx(0.06 * 0.06).epsilon(0.05));
 }
 
+TEST_CASE("plane under range noise larger than R_r: with density_depth_m and project_vertices, one layer, true area", "[mesh]") {
+  // σ = 1 mm is the thesis noise (Eq. 4.39) at 0.3 m, twice R_r. With the R_r ball alone the vertices form a slab of
+  // noisy layers whose tangent-plane triangulations overlap (3-4x the patch area in triangles projected on the plane);
+  // the density cylinder along the line of sight and the projection onto the PCA plane keep one layer.
+  nbs::test::PlanePatch plane(0.03, 0.03);
+  nbs::test::StripeSensor sensor;
+  sensor.noise_sigma_m = 0.001;
+  sensor.rays = 640;
+  nbs::StreamingMeshSettings settings = nbs::StreamingMeshSettings::from(nbs::Parameters{});
+  settings.density_depth_m = settings.normal_radius_m;
+  settings.project_vertices = true;
+  nbs::StreamingMesh mesh(settings);
+  for (unsigned k = 0; k < 3; ++k) {
+    mesh.integrate(nbs::test::scan_path(plane, down_at(0.002 * k, 0.04, 0.3), 0.08, sensor, 21 + k));
+    require_consistent(mesh);
+  }
+  double projected = 0.0, z2 = 0.0;
+  mesh.for_each_face([&](const nbs::MeshFace& f) {
+    const Vec3 a = mesh.position(f.a), b = mesh.position(f.b), c = mesh.position(f.c);
+    projected += 0.5 * std::abs((b - a).cross(c - a).z());
+  });
+  std::size_t meshed = 0;
+  for (nbs::VertexId v = 0; v < mesh.vertex_count(); ++v)
+    if (mesh.in_triangle(v)) {
+      z2 += mesh.position(v).z() * mesh.position(v).z();
+      ++meshed;
+    }
+  const double rms = std::sqrt(z2 / static_cast<double>(meshed));
+  INFO("projected area " << projected << " m^2, vertex RMS " << rms << " m, vertices " << mesh.vertex_count());
+  CHECK(projected == Approx(0.06 * 0.06).epsilon(0.05));  // the plane, once
+  CHECK(rms < 0.5 * sensor.noise_sigma_m);                 // vertices on their PCA planes, not at the raw noise
+  // One layer: no more stored points than the densest packing of points R_r apart in the plane allows (hexagonal,
+  // one per √3/2 R_r²); the R_r ball alone keeps ~3x that many here.
+  const double rr = mesh.settings().reduction_radius_m;
+  CHECK(static_cast<double>(mesh.vertex_count()) < 0.06 * 0.06 / (std::sqrt(3.0) / 2.0 * rr * rr));
+}
+
 TEST_CASE("sphere, cube, cylinder: consistent, normals, coverage", "[mesh]") {
   nbs::test::StripeSensor sensor;
   sensor.fov_rad = 0.6;
@@ -196,7 +233,7 @@ TEST_CASE("relative density d = N_act / N_max matches a brute-force count (Eqs. 
   for (nbs::VertexId v = 0; v < mesh.vertex_count(); v += 37) {
     std::uint32_t n = 0;
     for (nbs::VertexId q = 0; q < mesh.vertex_count(); ++q)
-      n += (mesh.position(q) - mesh.position(v)).norm() <= rn ? 1 : 0;
+      n += (mesh.stored_position(q) - mesh.stored_position(v)).norm() <= rn ? 1 : 0;  // N_act counts stored points
     REQUIRE(mesh.neighbour_count(v) == n);
     REQUIRE(mesh.relative_density(v) == Approx(std::min(1.0, n / mesh.max_neighbours())));
   }

@@ -4,7 +4,8 @@
 /// Checks: finite vertices; normals unit or zero; faces with three distinct valid vertices; no two faces on the same
 /// vertex set; every directed edge in at most one face (so an undirected edge has ≤ 2 triangles, consistently
 /// oriented); `for_each_edge` reports every edge exactly once with v_l / v_r equal to the faces' third vertices and
-/// `left_vertex` agreeing; no two vertices closer than `min_distance_m` (R_r; 0 skips the check).
+/// `left_vertex` agreeing; no two vertices closer than `min_distance_m` (R_r; 0 skips the check), measured at
+/// `stored_position(v)` where the mesh has it (the measured point before projection), else at `position(v)`.
 /// Cost O(V + F) expected (hash grid for the distance check).
 
 #include <algorithm>
@@ -102,7 +103,13 @@ template <EdgeMesh M>
     detail::SpatialHash grid(min_distance_m);
     const double r2 = min_distance_m * min_distance_m;
     for (std::size_t v = 0; v < n; ++v) {
-      const Vec3 p = mesh.position(static_cast<VertexId>(v));
+      // The density limitation bounds the measured points; a mesh that moves its vertices keeps them apart.
+      const Vec3 p = [&] {
+        if constexpr (requires { mesh.stored_position(VertexId{}); })
+          return Vec3(mesh.stored_position(static_cast<VertexId>(v)));
+        else
+          return Vec3(mesh.position(static_cast<VertexId>(v)));
+      }();
       if (!p.allFinite()) continue;
       grid.for_each_candidate(p, min_distance_m, [&](std::uint32_t q, const Vec3& pq) {
         const double d2 = (pq - p).squaredNorm();

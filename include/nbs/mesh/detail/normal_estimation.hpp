@@ -23,6 +23,7 @@ struct NormalRobustness {
 struct NormalEstimate {
   Vec3 normal = Vec3::Zero();  ///< unit, oriented against the line of sight; zero unless `robust`.
   bool robust = false;
+  Vec3 mean = Vec3::Zero();    ///< weighted mean of the ball: a point of the PCA tangent plane.
 };
 
 /// Eigenvalues of the symmetric 3×3 matrix `a` (lower triangle read), ascending, in closed form (trigonometric
@@ -96,6 +97,7 @@ struct NormalEstimate {
   const double c = n.dot(line_of_sight);
   if (!(std::abs(c) >= 0.02)) return out;
   out.normal = c > 0.0 ? Vec3(-n) : n;
+  out.mean = mean;
   out.robust = out.normal.allFinite();
   return out;
 }
