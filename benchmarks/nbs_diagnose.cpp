@@ -9,7 +9,9 @@
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
 //                     [--sampling P,R] [--threads N] [--hmax N]
 // Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
-// writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate).
+// writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
+// NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
+// (see print_coverage_terms).
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "nbs/candidates/hole_rescan.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
@@ -89,6 +92,7 @@ struct DiagnosticUtility {
     nbs::SelectionUtility u;
     u.setting.selection = sh.selection;
     nbs::EvaluationResult r = u.evaluate(paths, sensor, space, ctx, eval);
+    if (std::getenv("NBS_DIAG_COVERAGE")) return r;  // coverage terms only: no true gains
     sh.utility = r.values;
     sh.gain.assign(paths.size(), 0.0);
     nbs::detail::parallel_for(paths.size(), sh.threads, [&](std::size_t b, std::size_t e) {
@@ -148,6 +152,43 @@ double spearman(const std::vector<double>& a, const std::vector<double>& b) {
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
 }
 
+/// One line per scan: the terms of the estimated coverage ĉ_m = A_filled / (A_filled + A_empty) (Eqs. 4.35–4.37)
+/// next to the truth. `true` is the covered true area c_a · A (non-bottom); `filled` is Eq. 4.36 and `proj` the same
+/// with each triangle projected on its mean vertex normal (insensitive to noise across the surface); then the border
+/// loops with ≤ h_max edges (the holes of ĉ_m) and with more, each as count, Eq. 4.37 area and the part of them that
+/// Hole Rescan's probe calls measured (surface seen in the voxel space at the loop centre: a triangulation gap).
+template <class Planner>
+void print_coverage_terms(const Planner& planner, const nbs::Parameters& params, int scan, double c_a,
+                          double true_area_m2) {
+  using namespace nbs;
+  const auto& mesh = planner.mesh();
+  Parameters every_loop = params;
+  every_loop.hole_max_edges = 1 << 30;
+  double proj = 0.0;
+  mesh.for_each_face([&](const MeshFace& f) {
+    const Vec3 n = (mesh.normal(f.a) + mesh.normal(f.b) + mesh.normal(f.c)).normalized();
+    const Vec3 a = mesh.position(f.a);
+    proj += 0.5 * std::abs((mesh.position(f.b) - a).cross(mesh.position(f.c) - a).dot(n));
+  });
+  struct Loops {
+    std::size_t n = 0, n_measured = 0;
+    double area = 0.0, area_measured = 0.0;
+  } small, large;
+  const HoleRescan probe;
+  for (const Hole& h : find_holes(mesh, every_loop)) {
+    Loops& l = static_cast<int>(h.vertices.size()) <= params.hole_max_edges ? small : large;
+    const bool measured = probe.measured(planner.space(), h);
+    ++l.n;
+    l.area += h.area_m2;
+    l.n_measured += measured ? 1 : 0;
+    l.area_measured += measured ? h.area_m2 : 0.0;
+  }
+  std::printf("COV %2d c_m %.3f | true %.5f filled %.5f proj %.5f m2 | loops<=h_max %zu %.5f m2 (measured %zu %.5f) |"
+              " loops>h_max %zu %.5f m2 (measured %zu %.5f)\n",
+              scan, planner.estimated_coverage(), c_a * true_area_m2, filled_area(mesh), proj, small.n, small.area,
+              small.n_measured, small.area_measured, large.n, large.area, large.n_measured, large.area_measured);
+}
+
 template <class Search>
 int run(const Options& opt) {
   using namespace nbs;
@@ -195,6 +236,11 @@ int run(const Options& opt) {
     const std::vector<bool>& c = cov.covered();
     for (std::size_t i = 0; i < c.size(); ++i) sh.covered[i] = c[i] ? 1 : 0;
     const char* mode = r.scan == 1 ? "init" : (r.planning.mode == SearchMode::HoleRescan ? "HR" : "BS");
+    if (std::getenv("NBS_DIAG_COVERAGE")) {
+      const auto& bottom = truth.samples().bottom;
+      const auto n = static_cast<double>(std::count(bottom.begin(), bottom.end(), false));
+      print_coverage_terms(planner, params, r.scan, cov.completeness().c_a(), n / gts.sample_density_per_m2);
+    }
     if (r.scan == 1 || sh.gain.empty()) {
       std::printf("%4d %-4s %6.3f %7.2f %7zu\n", r.scan, mode, r.integration.estimated_coverage,
                   100 * cov.completeness().c_a(), r.points);
