@@ -7,7 +7,8 @@
 // generated candidates). A research tool, not part of the headline benchmarks.
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
-//                     [--sampling P,R] [--threads N] [--hmax N]
+//                     [--sampling P,R] [--threads N] [--hmax N] [--robust-mesh]
+// --robust-mesh uses NoiseRobustStreamingMesh (search H only).
 // Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
@@ -42,6 +43,7 @@ struct Options {
   int scans = 12;
   char search = 'H';
   bool oracle = false;
+  bool robust_mesh = false;  // NoiseRobustStreamingMesh instead of StreamingMesh
   std::string selection = "C";
   nbs::RaySampling sampling{4, 4};
   unsigned threads = 2;
@@ -189,7 +191,7 @@ void print_coverage_terms(const Planner& planner, const nbs::Parameters& params,
               small.n_measured, small.area_measured, large.n, large.area, large.n_measured, large.area_measured);
 }
 
-template <class Search>
+template <class Search, class Mesh>
 int run(const Options& opt) {
   using namespace nbs;
   IndexedMesh mesh = load_mesh(opt.mesh);
@@ -217,7 +219,7 @@ int run(const Options& opt) {
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
-  NbsPlanner<ProbabilisticVoxelSpace<>, StreamingMesh, Search, DiagnosticUtility, MaxScansReached> planner(
+  NbsPlanner<ProbabilisticVoxelSpace<>, Mesh, Search, DiagnosticUtility, MaxScansReached> planner(
       params, presets::dlr_lsp(), unknown, ps);
   planner.termination = MaxScansReached(opt.scans);
   CoverageTracker cov = truth.tracker();
@@ -282,6 +284,7 @@ int main(int argc, char** argv) {
     else if (a == "--search") opt.search = next().at(0);
     else if (a == "--oracle") opt.oracle = true;
     else if (a == "--hmax") opt.hole_max_edges = std::stoi(next());
+    else if (a == "--robust-mesh") opt.robust_mesh = true;
     else if (a == "--selection") opt.selection = next();
     else if (a == "--threads") opt.threads = static_cast<unsigned>(std::stoul(next()));
     else if (a == "--sampling") {
@@ -294,7 +297,8 @@ int main(int argc, char** argv) {
       return a == "--help" ? 0 : 2;
     }
   }
-  if (opt.search == 'S') return run<nbs::SphereSpace>(opt);
-  if (opt.search == 'B') return run<nbs::BoundarySpace>(opt);
-  return run<nbs::BoundaryHoleSpace>(opt);
+  if (opt.robust_mesh) return run<nbs::BoundaryHoleSpace, nbs::NoiseRobustStreamingMesh>(opt);
+  if (opt.search == 'S') return run<nbs::SphereSpace, nbs::StreamingMesh>(opt);
+  if (opt.search == 'B') return run<nbs::BoundarySpace, nbs::StreamingMesh>(opt);
+  return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);
 }

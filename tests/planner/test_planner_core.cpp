@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "nbs/mesh/invariants.hpp"
 #include "nbs/planner/nbs_planner.hpp"
 #include "nbs/planner/runtime_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
@@ -160,6 +161,35 @@ TEST_CASE("loop: same seed, same scan sequence with 1 and 2 threads; facade equa
     CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
     CHECK(a.records[i].planning.evaluated == b.records[i].planning.evaluated);
   }
+}
+
+TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is deterministic over threads",
+          "[planner][loop]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::SimulationSetting sim;
+  sim.seed = 5;
+  sim.max_scans = 4;
+  using Robust = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::NoiseRobustStreamingMesh>;
+  Robust p1({}, light_lsp(), sphere_box(), setting(1));
+  Robust p2({}, light_lsp(), sphere_box(), setting(2));
+  const auto a = nbs::run_simulation(p1, sphere, sim);
+  const auto b = nbs::run_simulation(p2, sphere, sim);
+  REQUIRE(a.records.size() == 4);
+  REQUIRE(b.records.size() == 4);
+  for (std::size_t i = 0; i < a.records.size(); ++i) {
+    CHECK(same_pose(a.records[i].path.start().pose(), b.records[i].path.start().pose()));
+    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
+  }
+  const auto& mesh = p1.mesh();
+  const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
+  INFO(rep.problems);
+  CHECK(rep.ok());
+  CHECK(mesh.settings().project_vertices);
+  CHECK(mesh.settings().density_depth_m == mesh.settings().normal_radius_m);
+  std::size_t moved = 0;  // meshed vertices sit on their PCA planes, not at the measured points
+  for (nbs::VertexId v = 0; v < mesh.vertex_count(); ++v)
+    moved += mesh.has_normal(v) && mesh.position(v) != mesh.stored_position(v) ? 1 : 0;
+  CHECK(moved > mesh.vertex_count() / 2);
 }
 
 TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[planner][loop]") {

@@ -417,6 +417,22 @@ private:
   std::vector<std::uint32_t> free_moments_;
 };
 
+/// StreamingMesh with both noise-robust options on (density_depth_m = R_n, project_vertices): a Mesh policy for
+/// NbsPlanner, which builds its mesh from (Parameters, unknown-area box). See StreamingMeshSettings for what they do
+/// and why they are not the default.
+class NoiseRobustStreamingMesh : public StreamingMesh {
+public:
+  explicit NoiseRobustStreamingMesh(const Parameters& p = {}, const Aabb& unknown_area = {})
+      : StreamingMesh(robust(StreamingMeshSettings::from(p, unknown_area))) {}
+
+private:
+  [[nodiscard]] static StreamingMeshSettings robust(StreamingMeshSettings s) {
+    s.density_depth_m = s.normal_radius_m;
+    s.project_vertices = true;
+    return s;
+  }
+};
+
 // ---- implementation ------------------------------------------------------------------------------------------------
 
 inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sight) {
