@@ -37,6 +37,27 @@ nbs::PlannerSetting setting(unsigned threads) {
 
 bool same_pose(const nbs::Pose& a, const nbs::Pose& b) { return a.matrix() == b.matrix(); }
 
+nbs::SimulationSetting loop_setting(std::uint64_t seed, int max_scans) {
+  nbs::SimulationSetting sim;
+  sim.seed = seed;
+  sim.max_scans = max_scans;
+  return sim;
+}
+
+/// Two loop results describe the same plan: same paths, ĉ_m, best utility and candidate count at every scan.
+template <class Result>
+void check_same_plan(const Result& a, const Result& b) {
+  REQUIRE(a.records.size() == b.records.size());
+  for (std::size_t i = 0; i < a.records.size(); ++i) {
+    INFO("scan " << i + 1);
+    CHECK(same_pose(a.records[i].path.start().pose(), b.records[i].path.start().pose()));
+    CHECK(a.records[i].path.end_position() == b.records[i].path.end_position());
+    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
+    CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
+    CHECK(a.records[i].planning.evaluated == b.records[i].planning.evaluated);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("planner: invalid parameters, sensor, box and setting throw InvalidArgument", "[planner]") {
@@ -139,9 +160,7 @@ TEST_CASE("runtime facade: every method code parses and round-trips; unknown cod
 TEST_CASE("loop: same seed, same scan sequence with 1 and 2 threads; facade equals the composed planner",
           "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
-  nbs::SimulationSetting sim;
-  sim.seed = 3;
-  sim.max_scans = 5;
+  const nbs::SimulationSetting sim = loop_setting(3, 5);
   nbs::NbsPlanner<> p1({}, light_lsp(), sphere_box(), setting(1));
   nbs::NbsPlanner<> p2({}, light_lsp(), sphere_box(), setting(2));
   nbs::RuntimePlanner rp("C_H", {}, light_lsp(), sphere_box(), setting(2));
@@ -149,37 +168,22 @@ TEST_CASE("loop: same seed, same scan sequence with 1 and 2 threads; facade equa
   const auto b = nbs::run_simulation(p2, sphere, sim);
   const auto c = nbs::run_simulation(rp, sphere, sim);
   REQUIRE(a.records.size() >= 3);  // a first scan and at least two planned ones
-  REQUIRE(a.records.size() == b.records.size());
-  REQUIRE(a.records.size() == c.records.size());
   CHECK(a.records[0].initial_index == nbs::random_initial_scan_index(3));
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    INFO("scan " << i + 1);
-    CHECK(same_pose(a.records[i].path.start().pose(), b.records[i].path.start().pose()));
-    CHECK(a.records[i].path.end_position() == b.records[i].path.end_position());
-    CHECK(same_pose(a.records[i].path.start().pose(), c.records[i].path.start().pose()));
-    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
-    CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
-    CHECK(a.records[i].planning.evaluated == b.records[i].planning.evaluated);
-  }
+  check_same_plan(a, b);
+  check_same_plan(a, c);
 }
 
 TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is deterministic over threads",
           "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
-  nbs::SimulationSetting sim;
-  sim.seed = 5;
-  sim.max_scans = 4;
+  const nbs::SimulationSetting sim = loop_setting(5, 4);
   using Robust = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::NoiseRobustStreamingMesh>;
   Robust p1({}, light_lsp(), sphere_box(), setting(1));
   Robust p2({}, light_lsp(), sphere_box(), setting(2));
   const auto a = nbs::run_simulation(p1, sphere, sim);
   const auto b = nbs::run_simulation(p2, sphere, sim);
   REQUIRE(a.records.size() == 4);
-  REQUIRE(b.records.size() == 4);
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    CHECK(same_pose(a.records[i].path.start().pose(), b.records[i].path.start().pose()));
-    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
-  }
+  check_same_plan(a, b);
   const auto& mesh = p1.mesh();
   const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
   INFO(rep.problems);
