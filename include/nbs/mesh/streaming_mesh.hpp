@@ -265,6 +265,7 @@ private:
       const Vec3 d = q - p;
       const double n2 = d.squaredNorm();
       if (n2 < r2) return true;
+      if (!(depth > 0.0)) return false;
       const double along = d.dot(dir);
       if (!(std::abs(along) < depth) || !(n2 - along * along < r2)) return false;
       return has_normal(id) ? nrm_[id].dot(dir) < 0.0 : los_[id].cast<double>().dot(dir) > 0.0;
