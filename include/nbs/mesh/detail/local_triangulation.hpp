@@ -164,19 +164,22 @@ private:
   }
 
   void collect_local_faces() {
-    faces_.clear();
-    if (++face_gen_ == 0) {  // wrapped: forget every old mark
+    // Marks of this call start above every earlier one: face_base_ + faces_.size() of the previous call + 1.
+    face_base_ += static_cast<std::uint32_t>(faces_.size()) + 1;
+    if (face_base_ > 0x7FFFFFFFu) {  // far from wrapping (a call adds far fewer than 2^31): forget every old mark
       std::fill(face_mark_.begin(), face_mark_.end(), 0u);
-      face_gen_ = 1;
+      face_base_ = 1;
     }
+    faces_.clear();
     if (face_mark_.size() < fs_.face_count()) face_mark_.resize(fs_.face_count(), 0);
     for (VertexId q : local_)
       for (std::uint32_t f : fs_.faces_of(q))
-        if (face_mark_[f] != face_gen_) {  // each face once, then in id order
-          face_mark_[f] = face_gen_;
+        if (face_mark_[f] < face_base_) {  // each face once, then in id order
+          face_mark_[f] = face_base_;
           faces_.push_back(f);
         }
     std::sort(faces_.begin(), faces_.end());
+    for (std::size_t i = 0; i < faces_.size(); ++i) face_mark_[faces_[i]] = face_base_ + static_cast<std::uint32_t>(i);
     // Distinct corners with their projections, computed once for split_containing_face() and fan().
     next_generation();
     verts_.clear();
@@ -184,6 +187,9 @@ private:
     for (std::uint32_t f : faces_)
       for (VertexId q : fs_.face(f)) corner_.push_back(marked(q) ? slot_[q] : vert_index(q, project(q)));
   }
+
+  /// Index in faces_ of the collected face f.
+  [[nodiscard]] std::size_t patch_index(std::uint32_t f) const { return face_mark_[f] - face_base_; }
 
   /// Case "inside": v projects into a compatible local face → split it. Returns true if it did.
   bool split_containing_face() {
@@ -288,14 +294,22 @@ private:
         }
         return false;
       };
-      // "Some face blocks" does not depend on the order, so the face that blocked the last neighbour is tried first,
-      // on its own (most neighbours are blocked, often by the same face), before the sides of all patch vertices.
-      bool blocked = false;
-      if (hint < faces_.size()) {
+      auto face_blocks = [&](std::size_t i) {
         std::array<int, 3> sd{};
-        for (std::size_t k = 0; k < 3; ++k) sd[k] = side_class(orient(o, pq, verts_[corner_[3 * hint + k]].p2));
-        blocked = blocks(hint, sd);
-      }
+        for (std::size_t k = 0; k < 3; ++k) sd[k] = side_class(orient(o, pq, verts_[corner_[3 * i + k]].p2));
+        return blocks(i, sd);
+      };
+      // "Some face blocks" does not depend on the order, so the likely blockers are tried first, on their own, before
+      // the sides of all patch vertices: q's own faces (all in the patch; their far edges ring q, so they block an
+      // interior q seen from outside its ring) and the face that blocked the last neighbour.
+      bool blocked = false;
+      for (std::uint32_t f : fs_.faces_of(q))
+        if (face_blocks(patch_index(f))) {
+          blocked = true;
+          hint = patch_index(f);
+          break;
+        }
+      if (!blocked && hint < faces_.size()) blocked = face_blocks(hint);
       if (!blocked) {
         side_.resize(verts_.size());
         for (std::size_t j = 0; j < verts_.size(); ++j) side_[j] = side_class(orient(o, pq, verts_[j].p2));
@@ -624,8 +638,9 @@ private:
   /// is marked iff mark_[v] == gen_.
   std::vector<std::uint32_t> mark_, slot_;
   std::uint32_t gen_ = 0;
-  std::vector<std::uint32_t> face_mark_;  ///< per face: face_gen_ once collected by collect_local_faces()
-  std::uint32_t face_gen_ = 0;
+  /// Per face: face_base_ + its index in faces_ once collected by collect_local_faces(); below face_base_: not collected.
+  std::vector<std::uint32_t> face_mark_;
+  std::uint32_t face_base_ = 0;
   struct BorderMemo {
     VertexId next = kNoVertex;  ///< next_border() of the vertex
     std::uint32_t version = 0;  ///< FaceStore::version() it was computed at
