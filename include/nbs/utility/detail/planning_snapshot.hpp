@@ -96,17 +96,17 @@ public:
   /// True if every voxel a cast of `ray` can visit lies in the box, so `cast` may be used. Precondition: enabled().
   /// Rays are clipped exactly as ProbabilisticVoxelSpace::cast_ray does it.
   struct Clipped {
-    bool meets = false;   ///< the ray meets voxel_bounds()
-    bool inside = false;  ///< both end keys of the clipped segment lie in the box
-    Vec3 a, b;            ///< clipped end points, voxel units
+    bool meets = false;        ///< the ray meets voxel_bounds()
+    bool inside = false;       ///< both end keys of the clipped segment lie in the box
+    SegmentSetup::Fixed a{}, b{};  ///< clipped end points, DDA fixed point (SegmentSetup::to_fixed of voxel units)
   };
   [[nodiscard]] Clipped clip(const Ray& ray) const {
     Clipped c;
     double t0, t1;
     if (!clip_segment(ray.origin, ray.end, vbounds_, t0, t1)) return c;
     c.meets = true;
-    c.a = point_in_box(ray.origin, ray.end, t0, vbounds_) * inv_;
-    c.b = point_in_box(ray.origin, ray.end, t1, vbounds_) * inv_;
+    c.a = SegmentSetup::to_fixed(Vec3(point_in_box(ray.origin, ray.end, t0, vbounds_) * inv_));
+    c.b = SegmentSetup::to_fixed(Vec3(point_in_box(ray.origin, ray.end, t1, vbounds_) * inv_));
     c.inside = key_in_box(c.a) && key_in_box(c.b);
     return c;
   }
@@ -264,9 +264,9 @@ private:
     return c;
   }
 
-  [[nodiscard]] bool key_in_box(const Vec3& v) const {
+  [[nodiscard]] bool key_in_box(const SegmentSetup::Fixed& f) const {
     for (int a = 0; a < 3; ++a) {
-      const std::int32_t k = SegmentWalker::key_of_fixed(SegmentWalker::to_fixed(v[a]));
+      const std::int32_t k = SegmentSetup::key_of_fixed(f[static_cast<std::size_t>(a)]);
       if (k < box_.min[a] || k > box_.max[a]) return false;
     }
     return true;
