@@ -3,8 +3,9 @@
 // Headlines: planner.t_nbs_median_s (median over the planning steps of one closed loop; target ≤ 0.05 s, thesis
 // Tab. 4.5: 1.37 s) and planner.t_nbs_per_candidate_ms (median of t_nbs / candidates scored).
 // Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
-// NBS_BENCH_STEPS=1 prints each step's breakdown (generate / replan / evaluate seconds, candidate counts, c_m) and
-// the largest c_m of the run; NBS_BENCH_SEED=N replaces the simulation seed 1 (which initial scan is taken);
+// NBS_BENCH_STEPS=1 prints each step's breakdown (generate / replan / evaluate seconds, candidate counts, c_m, the
+// chosen candidate's utility u) and the largest c_m of the run; NBS_BENCH_SEED=N replaces the simulation seed 1 (which
+// initial scan is taken);
 // NBS_BENCH_REFINE=F,K replaces the coarse-to-fine setting of the closed loop (PlannerSetting::refine; 1,K = off).
 // NBS_BENCH_REFINE_STUDY=1: after each scan, scores the remaining set S once with every ray of the planner's sampling
 // and with several coarse-to-fine settings, and prints whether each picks the same candidate and the full-sampling
@@ -119,9 +120,9 @@ int main(int argc, char** argv) {
     if (r.scan == 1 || r.planning.evaluated == 0) return;
     const nbs::IterationStats& p = r.planning;
     if (steps)
-      std::printf("step %2d %s gen %3zu drop %3zu eval %3zu  t_gen %.4f t_replan %.4f t_eval %.4f t_nbs %.4f  c_m %.4f\n",
+      std::printf("step %2d %s gen %3zu drop %3zu eval %3zu  t_gen %.4f t_replan %.4f t_eval %.4f t_nbs %.4f  c_m %.4f u %.17g\n",
                   r.scan, nbs::to_string(p.mode).data(), p.generated, p.dropped, p.evaluated, p.t_generate_s,
-                  p.t_replan_s, p.t_evaluate_s, p.t_nbs_s, p.estimated_coverage);
+                  p.t_replan_s, p.t_evaluate_s, p.t_nbs_s, p.estimated_coverage, p.best_utility);
     t_nbs.push_back(r.planning.t_nbs_s);
     per_candidate_ms.push_back(1e3 * r.planning.t_nbs_s / static_cast<double>(r.planning.evaluated));
   });

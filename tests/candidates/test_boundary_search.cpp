@@ -1,7 +1,10 @@
 // Boundary Search (Secs. 4.2.2-4.3.2) against analytic scans: planes, a box and a sphere.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "../mesh/mesh_test_util.hpp"
 #include "nbs/candidates/boundary_search.hpp"
@@ -120,6 +123,55 @@ TEST_CASE("sharp-corner rule triggers on a box edge and not on a sphere (Eqs. 4.
     for (const auto& c : set.candidates) {
       check_candidate_geometry(c, 0.3);
       CHECK_FALSE(c.sharp_corner);
+    }
+  }
+}
+
+namespace {
+
+// A StreamingMesh seen only through the EdgeMesh members (no KnowsFaceBorders): mesh_topology takes for_each_edge.
+struct PlainEdgeMesh {
+  const nbs::StreamingMesh* m;
+  [[nodiscard]] std::size_t vertex_count() const { return m->vertex_count(); }
+  [[nodiscard]] Vec3 position(nbs::VertexId v) const { return m->position(v); }
+  [[nodiscard]] Vec3 normal(nbs::VertexId v) const { return m->normal(v); }
+  [[nodiscard]] std::size_t face_count() const { return m->face_count(); }
+  [[nodiscard]] nbs::VertexId left_vertex(nbs::VertexId a, nbs::VertexId b) const { return m->left_vertex(a, b); }
+  template <class F>
+  void for_each_edge(F&& f) const { m->for_each_edge(f); }
+  template <class F>
+  void for_each_face(F&& f) const { m->for_each_face(f); }
+};
+
+}  // namespace
+
+TEST_CASE("mesh topology from face borders equals the one from for_each_edge", "[bs]") {
+  static_assert(nbs::EdgeMesh<PlainEdgeMesh> && !nbs::KnowsFaceBorders<PlainEdgeMesh>);
+  nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.04);
+  Scanned s(sphere, nbs::test::down_at(0, 0.07, 0.2), 0.14);
+  REQUIRE(s.mesh.face_count() > 100);
+  const nbs::detail::MeshTopology fast = nbs::detail::mesh_topology(s.mesh);
+  const nbs::detail::MeshTopology slow = nbs::detail::mesh_topology(PlainEdgeMesh{&s.mesh});
+  CHECK(fast.offset == slow.offset);
+  CHECK(fast.neighbours == slow.neighbours);
+  CHECK(fast.triangulated == slow.triangulated);
+}
+
+TEST_CASE("region weights (Eq. 4.11) equal the brute-force nearest boundary vertex, bit for bit", "[bs]") {
+  nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.04);
+  Scanned s(sphere, nbs::test::down_at(0, 0.07, 0.2), 0.14);
+  const auto n = static_cast<nbs::VertexId>(s.mesh.vertex_count());
+  REQUIRE(n > 100);
+  std::vector<nbs::VertexId> region, boundary;
+  for (nbs::VertexId v = 0; v < n; ++v) (v % 7 == 3 ? boundary : region).push_back(v);
+  for (double scale : {0.001, 0.005, 0.02}) {
+    const std::vector<double> w = nbs::detail::region_weights(s.mesh, region, boundary, scale);
+    REQUIRE(w.size() == region.size());
+    for (std::size_t i = 0; i < region.size(); ++i) {
+      double d2 = std::numeric_limits<double>::infinity();
+      const Vec3 p = s.mesh.position(region[i]);
+      for (nbs::VertexId b : boundary) d2 = std::min(d2, (Vec3(s.mesh.position(b)) - p).squaredNorm());
+      REQUIRE(w[i] == nbs::boundary_distance_weight(std::sqrt(d2), scale));
     }
   }
 }

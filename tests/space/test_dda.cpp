@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <set>
@@ -174,7 +175,25 @@ TEST_CASE("common-denominator stepper takes the same steps as SegmentWalker, tie
   // Ends on faces moving up, and starts on faces moving down, are served: their extra crossings have t > 1.
   REQUIRE(same_steps(Vec3(0.5, 0.5, 0.5), Vec3(3.0, 2.0, 0.5)));
   REQUIRE(same_steps(Vec3(3.0, 2.0, 1.0), Vec3(0.5, 0.3, 0.7)));
-  REQUIRE_FALSE(same_steps(Vec3(3.5, 2.5, 1.5), Vec3(1.0, 0.5, 0.7)));  // x moves down to the face x = 1
+  REQUIRE(same_steps(Vec3(3.5, 2.5, 1.5), Vec3(1.0, 0.5, 0.7)));  // x moves down to the face x = 1
+  REQUIRE(same_steps(Vec3(3.5, 2.5, 1.5), Vec3(1.0, 0.0, 0.7)));  // x and y move down to faces
+  REQUIRE_FALSE(same_steps(Vec3(3.5, 0.5, 1.5), Vec3(1.0, 2.0, 0.7)));  // declined: x down, y up to faces
+  // Ends on faces on random axes (the clipped planning rays end on the unknown-area box): every step equal.
+  std::uniform_int_distribution<int> axis_mask(1, 7);
+  compared = 0;
+  int declined = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 a = lattice();
+    Vec3 b = lattice();
+    const int m = axis_mask(rng);
+    for (int k = 0; k < 3; ++k)
+      if ((m >> k) & 1) b[k] = std::round(b[k]);
+    const bool ok = same_steps(a, b);
+    compared += ok ? 1 : 0;
+    declined += ok ? 0 : 1;
+  }
+  REQUIRE(compared > 10000);
+  REQUIRE(declined > 1000);  // the SegmentWalker cases are still met
   REQUIRE(same_steps(Vec3(0.5, 0.5, 0.5), Vec3(0.5, 0.5, 0.5)));
   REQUIRE(same_steps(Vec3(2.0, 0.5, 0.5), Vec3(-2.3, 0.5, 0.5)));  // starts on a face moving down
   REQUIRE_FALSE(same_steps(Vec3(0.0, 0.0, 0.0), Vec3(-5.0, 5.0, -5.0)));  // declined: ends on faces moving down

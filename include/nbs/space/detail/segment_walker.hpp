@@ -191,19 +191,25 @@ private:
 /// is identical (tests/space/test_dda.cpp compares them). It does not track the key: the caller follows the returned
 /// axes from SegmentSetup::key, for exactly SegmentSetup::steps() steps.
 /// No per-axis countdown is needed: every crossing of the walk has t ≤ 1 and the first crossing past an axis' last
-/// one has t > 1 — except for an axis moving down whose end lies exactly on a voxel face (t = 1, which could win a
-/// tie against a real crossing at t = 1); make() leaves those segments to SegmentWalker.
+/// one has t > 1 — except for an axis moving down whose end lies exactly on a voxel face: its extra crossing has
+/// t = 1 and loses to every real crossing (t < 1) but could win a tie against a real crossing at t = 1, which only an
+/// axis moving up to an end exactly on a face has; make() leaves segments with both to SegmentWalker.
 class CommonDenominatorStepper {
 public:
   /// The stepper of segment q, or nullopt if |Δ| ≥ 1024 voxels on some axis (its products could then exceed 2^61)
-  /// or an axis moving down ends exactly on a voxel face; then use SegmentWalker.
+  /// or one axis moves down and another up to ends exactly on voxel faces; then use SegmentWalker.
   [[nodiscard]] static std::optional<CommonDenominatorStepper> make(const SegmentSetup& q) {
     // (N_a + remaining_a·2^F)·m_a ≤ (A_a + 2^(F+1))·A_b·A_c < 2^61 when every A < 2^20 (1024 voxels): then no T_a
     // nor T_a + D_a overflows.
     if ((q.abs[0] | q.abs[1] | q.abs[2]) >= (std::int64_t{1} << 20)) return std::nullopt;
-    for (int a = 0; a < 3; ++a)  // end coordinate of a downward axis: start − A = key·2^F + N − A
-      if (q.sign[a] < 0 && q.remaining[a] > 0 && ((q.next[a] - q.abs[a]) & (SegmentSetup::kOne - 1)) == 0)
-        return std::nullopt;
+    // End coordinate modulo 2^F: moving down start − A = key·2^F + N − A, moving up start + A = (key + 1)·2^F − N + A.
+    bool down_to_face = false, up_to_face = false;
+    for (int a = 0; a < 3; ++a) {
+      if (q.remaining[a] == 0) continue;
+      if (q.sign[a] < 0 && ((q.next[a] - q.abs[a]) & (SegmentSetup::kOne - 1)) == 0) down_to_face = true;
+      if (q.sign[a] > 0 && ((q.abs[a] - q.next[a]) & (SegmentSetup::kOne - 1)) == 0) up_to_face = true;
+    }
+    if (down_to_face && up_to_face) return std::nullopt;
     const std::int64_t a0 = q.remaining[0] > 0 ? q.abs[0] : 1, a1 = q.remaining[1] > 0 ? q.abs[1] : 1,
                        a2 = q.remaining[2] > 0 ? q.abs[2] : 1;
     const std::int64_t m[3] = {a1 * a2, a0 * a2, a0 * a1};

@@ -7,10 +7,10 @@
 /// the log/exp of the occupancy and the log₂ of the entropy by two array loads.
 ///
 /// Built only from the space's public API (`bounds_keys`, `voxel_bounds`, `for_each`, `model`, `features`, `grid`)
-/// and the space's exact DDA (`detail::SegmentWalker`, `clip_segment`, `point_in_box`). Relies on the backend
-/// contract that a never-written (unobserved) voxel reads as `State{}`. Not built (`enabled()` false) when the box
-/// has more than `kMaxVoxels` voxels, when the model calls `State{}` occupied, or when the space lacks that API; the
-/// evaluator then uses `space.cast_ray` with per-voxel lookups.
+/// and the space's exact DDA (`detail::SegmentWalker` / `CommonDenominatorStepper`, `clip_segment`, `point_in_box`).
+/// Relies on the backend contract that a never-written (unobserved) voxel reads as `State{}`. Not built (`enabled()`
+/// false) when the box has more than `kMaxVoxels` voxels, when the model calls `State{}` occupied, or when the space
+/// lacks that API; the evaluator then uses `space.cast_ray` with per-voxel lookups.
 
 #include <concepts>
 #include <cstddef>
@@ -96,17 +96,17 @@ public:
   /// True if every voxel a cast of `ray` can visit lies in the box, so `cast` may be used. Precondition: enabled().
   /// Rays are clipped exactly as ProbabilisticVoxelSpace::cast_ray does it.
   struct Clipped {
-    bool meets = false;   ///< the ray meets voxel_bounds()
-    bool inside = false;  ///< both end keys of the clipped segment lie in the box
-    Vec3 a, b;            ///< clipped end points, voxel units
+    bool meets = false;        ///< the ray meets voxel_bounds()
+    bool inside = false;       ///< both end keys of the clipped segment lie in the box
+    SegmentSetup::Fixed a{}, b{};  ///< clipped end points, DDA fixed point (SegmentSetup::to_fixed of voxel units)
   };
   [[nodiscard]] Clipped clip(const Ray& ray) const {
     Clipped c;
     double t0, t1;
     if (!clip_segment(ray.origin, ray.end, vbounds_, t0, t1)) return c;
     c.meets = true;
-    c.a = point_in_box(ray.origin, ray.end, t0, vbounds_) * inv_;
-    c.b = point_in_box(ray.origin, ray.end, t1, vbounds_) * inv_;
+    c.a = SegmentSetup::to_fixed(Vec3(point_in_box(ray.origin, ray.end, t0, vbounds_) * inv_));
+    c.b = SegmentSetup::to_fixed(Vec3(point_in_box(ray.origin, ray.end, t1, vbounds_) * inv_));
     c.inside = key_in_box(c.a) && key_in_box(c.b);
     return c;
   }
@@ -114,29 +114,16 @@ public:
   /// Casts a clipped segment (clip(ray).inside): visit(key, const VoxelClass&, box index) for each voxel in order
   /// until the first occupied one (hit) or until visit returns false. The DDA visits keys monotonically per axis
   /// from the start key to the end key, so every key lies in the box.
-  /// `gnu::flatten` inlines the walker's step() and `visit` into the loop (GCC otherwise may call step() per voxel).
   template <class Visit>
   [[gnu::flatten]] RaycastResult cast(const Clipped& c, Visit&& visit) const {
-    RaycastResult res;
-    SegmentWalker w(c.a, c.b);
-    std::size_t idx = index(w.key());
-    std::ptrdiff_t delta[3];
-    index_steps(w, delta);
     const std::uint32_t* ids = ids_.data();
     const VoxelClass* classes = classes_.data();
-    for (;;) {
-      ++res.voxels;
+    auto at = [&](const std::int32_t (&k)[3], std::size_t idx, std::uint32_t) {
       const VoxelClass& vc = classes[ids[idx]];
-      if (!visit(w.key(), vc, idx)) break;
-      if (vc.occupied) {
-        res.hit = true;
-        res.hit_key = w.key();
-        break;
-      }
-      if (w.remaining() == 0) break;
-      idx = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(idx) + delta[w.step()]);
-    }
-    return res;
+      if (!visit(VoxelKey{k[0], k[1], k[2]}, vc, idx)) return Step::stop;
+      return vc.occupied ? Step::hit : Step::next;
+    };
+    return walk(c, at);
   }
 
   /// The walk of cast() (same voxels, order and stop rule) for a visitor that needs only the first visit of each
@@ -146,40 +133,60 @@ public:
   /// every voxel stepped into.
   template <class First>
   [[gnu::flatten]] RaycastResult cast_first_visits(const Clipped& c, VisitedBits& visited, First&& first) const {
-    RaycastResult res;
-    SegmentWalker w(c.a, c.b);
-    std::size_t idx = index(w.key());
-    std::ptrdiff_t delta[3];
-    index_steps(w, delta);
     std::uint64_t* seen = visited.words();
     const std::uint64_t* occupied = occupied_.data();
     const std::uint32_t* ids = ids_.data();
     const VoxelClass* classes = classes_.data();
-    for (std::uint32_t n = 0;; ++n) {
+    auto at = [&](const std::int32_t (&k)[3], std::size_t idx, std::uint32_t n) {
       const std::size_t word = idx >> 6;
       const std::uint64_t bit = std::uint64_t{1} << (idx & 63);
       if ((seen[word] & bit) == 0) {
         seen[word] |= bit;
-        first(w.key(), classes[ids[idx]], n);
+        first(VoxelKey{k[0], k[1], k[2]}, classes[ids[idx]], n);
       }
-      if ((occupied[word] & bit) != 0 || w.remaining() == 0) {
-        res.voxels = n + 1;
-        if ((occupied[word] & bit) != 0) {
-          res.hit = true;
-          res.hit_key = w.key();
-        }
-        break;
-      }
-      idx = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(idx) + delta[w.step()]);
-    }
-    return res;
+      return (occupied[word] & bit) != 0 ? Step::hit : Step::next;
+    };
+    return walk(c, at);
   }
 
 private:
-  // Change of the box index when the walk w steps along each axis.
-  void index_steps(const SegmentWalker& w, std::ptrdiff_t (&delta)[3]) const {
-    const std::ptrdiff_t step[3] = {1, static_cast<std::ptrdiff_t>(nx_), static_cast<std::ptrdiff_t>(nx_ * ny_)};
-    for (int a = 0; a < 3; ++a) delta[a] = w.sign(a) * step[a];
+  /// What the policy of walk() answers for the voxel the walk is at.
+  enum class Step { next, stop, hit };
+
+  /// The one walk of cast() and cast_first_visits(): at(key, box index, n) for each voxel of the clipped segment in
+  /// order (n: position along the ray, 0 for the first) until it answers stop or hit or the end voxel is reached.
+  /// res.voxels counts the voxels at() was called for; res.hit / hit_key are set if it answered hit. Steps with
+  /// CommonDenominatorStepper where make() allows, else SegmentWalker (the same voxels; tests/space/test_dda.cpp).
+  /// The key is an int32[3], not a VoxelKey, so that k[axis] compiles without branches on the axis. `gnu::flatten`
+  /// on the callers inlines the stepper and the policy into the loop.
+  template <class At>
+  RaycastResult walk(const Clipped& c, At& at) const {
+    const SegmentSetup q(c.a, c.b);
+    if (const auto fast = CommonDenominatorStepper::make(q)) return walk_steps(*fast, q, at);
+    return walk_steps(SegmentWalker(q), q, at);
+  }
+  template <class Stepper, class At>
+  RaycastResult walk_steps(Stepper st, const SegmentSetup& q, At& at) const {
+    std::int32_t k[3] = {q.key.x, q.key.y, q.key.z};
+    std::size_t idx = index(q.key);
+    const std::ptrdiff_t delta[3] = {q.sign[0], q.sign[1] * static_cast<std::ptrdiff_t>(nx_),
+                                     q.sign[2] * static_cast<std::ptrdiff_t>(nx_ * ny_)};
+    const auto steps = static_cast<std::uint32_t>(q.steps());
+    for (std::uint32_t n = 0;; ++n) {
+      const Step s = at(k, idx, n);
+      if (s != Step::next || n == steps) {
+        RaycastResult res;
+        res.voxels = n + 1;
+        if (s == Step::hit) {
+          res.hit = true;
+          res.hit_key = VoxelKey{k[0], k[1], k[2]};
+        }
+        return res;
+      }
+      const int a = st.step();
+      k[a] += q.sign[a];
+      idx = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(idx) + delta[a]);
+    }
   }
 
   void build() {
@@ -257,9 +264,9 @@ private:
     return c;
   }
 
-  [[nodiscard]] bool key_in_box(const Vec3& v) const {
+  [[nodiscard]] bool key_in_box(const SegmentSetup::Fixed& f) const {
     for (int a = 0; a < 3; ++a) {
-      const std::int32_t k = SegmentWalker::key_of_fixed(SegmentWalker::to_fixed(v[a]));
+      const std::int32_t k = SegmentSetup::key_of_fixed(f[static_cast<std::size_t>(a)]);
       if (k < box_.min[a] || k > box_.max[a]) return false;
     }
     return true;
