@@ -117,6 +117,41 @@ TEST_CASE("estimated coverage of a scanned dome matches the Eq. 4.35-4.37 oracle
   CHECK(nbs::filled_area(mesh) == Approx(cap).epsilon(0.05));
 }
 
+TEST_CASE("estimated coverage from unseen loops: Eq. 4.35 with each loop weighted by its unseen fan share", "[mesh]") {
+  // The scanned dome of the test above: its rim loop is the only large loop, its Eq. 4.37 fan the flat rim disk.
+  const double r = 0.04;
+  nbs::test::Sphere dome(Vec3(0, 0, 0), r);
+  dome.min_z = 0.0;
+  nbs::test::StripeSensor sensor;
+  sensor.fov_rad = 0.6;
+  sensor.rays = 400;
+  nbs::StreamingMesh mesh;
+  mesh.integrate(nbs::test::scan_path(dome, down_at(0, 0.05, 0.2), 0.1, sensor, 12));
+  nbs::Parameters p;
+  p.hole_max_edges = 100000;
+  const auto loops = nbs::find_holes(mesh, p);
+  const nbs::Hole* rim = nullptr;
+  for (const auto& h : loops)
+    if (!rim || h.area_m2 > rim->area_m2) rim = &h;
+  REQUIRE(rim != nullptr);
+  const double filled = nbs::filled_area(mesh);
+  double all = 0.0;
+  for (const auto& h : loops) all += h.area_m2;
+  // Nothing seen: every loop counts in full (Eq. 4.35 over all loops); everything seen: no empty area.
+  CHECK(nbs::estimated_coverage_unseen(mesh, loops, [](const Vec3&) { return false; }) ==
+        Approx(filled / (filled + all)).epsilon(1e-12));
+  CHECK(nbs::estimated_coverage_unseen(mesh, loops, [](const Vec3&) { return true; }) == 1.0);
+  // Half of the rim disk seen (x > c_x): the rim's fan is symmetric about its centre, so half of it counts.
+  const double cx = rim->center.x();
+  const auto half = [&](const Vec3& x) { return x.x() > cx; };
+  CHECK(nbs::fan_seen_share(mesh, *rim, half) == Approx(0.5).margin(0.03));
+  const double small = all - rim->area_m2;  // the other loops lie anywhere: bound their share by 0 and 1
+  const double c = nbs::estimated_coverage_unseen(mesh, loops, half);
+  CHECK(c >= filled / (filled + 0.53 * rim->area_m2 + small) - 1e-12);
+  CHECK(c <= filled / (filled + 0.47 * rim->area_m2) + 1e-12);
+  CHECK(nbs::estimated_coverage_unseen(nbs::StreamingMesh{}, {}, half) == 0.0);
+}
+
 TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
   nbs::test::PlanePatch plane(0.0185, 0.0185);  // border inside the voxel ring [15, 20) mm, not on a voxel face
   nbs::StreamingMesh mesh;

@@ -102,4 +102,32 @@ template <EdgeMesh M>
   return filled > 0.0 ? filled / (filled + empty) : 0.0;
 }
 
+/// Share of hole h's Eq. 4.37 fan that `seen(x)` (x: world point, m) calls measured surface: three samples per fan
+/// triangle (c_h, v_{i−1}, v_i), at 1/4, 1/2 and 3/4 of the way from c_h to the midpoint of v_{i−1}v_i. 1 for a
+/// loop without vertices.
+template <EdgeMesh M, class Seen>
+[[nodiscard]] double fan_seen_share(const M& mesh, const Hole& h, Seen&& seen) {
+  const std::size_t k = h.vertices.size();
+  if (k == 0) return 1.0;
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3 mid = 0.5 * (mesh.position(h.vertices[(i + k - 1) % k]) + mesh.position(h.vertices[i]));
+    for (const double t : {0.25, 0.5, 0.75}) hits += seen(Vec3(h.center + t * (mid - h.center))) ? 1 : 0;
+  }
+  return static_cast<double>(hits) / static_cast<double>(3 * k);
+}
+
+/// ĉ_m = A_filled / (A_filled + A_empty) (Eq. 4.35) with A_empty = Σ A_hole · (1 − fan_seen_share) over `loops`,
+/// meant to be every closed border loop (find_holes with h_max unbounded). Our reading for noisy streams: a loop
+/// whose fan lies in voxels already measured as surface is a gap of the triangulation, not missing surface, and the
+/// not yet seen surface of a partial model lies in loops longer than any h_max. `seen(x)`: x lies in a voxel
+/// measured as surface (e.g. p > Parameters::occupied_threshold). 0 for a mesh without triangles.
+template <EdgeMesh M, class Seen>
+[[nodiscard]] double estimated_coverage_unseen(const M& mesh, const std::vector<Hole>& loops, Seen&& seen) {
+  const double filled = filled_area(mesh);
+  double empty = 0.0;
+  for (const Hole& h : loops) empty += h.area_m2 * (1.0 - fan_seen_share(mesh, h, seen));
+  return filled > 0.0 ? filled / (filled + empty) : 0.0;
+}
+
 }  // namespace nbs

@@ -10,6 +10,7 @@
 /// result is identical for any thread count (so is every plan: the rest is sequential and deterministic).
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -30,7 +31,10 @@ namespace nbs {
 /// store surface features. ProbabilisticVoxelSpace models it.
 template <class S>
 concept PlannerSpace = PlanningSpace<S> && EvaluationSpace<S> && FeatureSpace<S> &&
-                       requires(S& s, const Scan& scan) { s.integrate(scan); };
+                       requires(S& s, const Scan& scan, const Vec3& x) {
+                         s.integrate(scan);
+                         { std::as_const(s).probability(x) } -> std::convertible_to<double>;
+                       };
 
 /// A mesh the planner can own: an EdgeMesh with relative density (d̄_m), current-scan tracking (M_cur) and
 /// `integrate(scan)` returning the number of meshed points, built as Mesh(params, unknown_area) (pass-through box).
@@ -49,13 +53,14 @@ concept PlannerSensor = CandidateRaySensor<S> && requires(const S& s) {
 
 /// The composed Next-Best-Scan planner. Policies (defaults = the thesis's best method C_H, Tab. 4.5):
 /// - `Space`: voxel space owned by the planner (PlannerSpace);
-/// - `Mesh`: surface mesh owned by the planner (PlannerMesh);
+/// - `Mesh`: surface mesh owned by the planner (PlannerMesh; default NoiseRobustStreamingMesh, StreamingMesh is the
+///   thesis's Sec. 3.3.1 as written);
 /// - `Search`: CandidateSearch<Explore, Rescan> (public member `search`);
 /// - `Utility`: UtilityPolicy (public member `utility`, with a `setting`);
 /// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m and d̄_m reached, or n_abort);
 /// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7);
 /// - `Sensor`: LaserStripeProfiler (or AreaSensor).
-template <class Space = ProbabilisticVoxelSpace<>, class Mesh = StreamingMesh, class Search = BoundaryHoleSpace,
+template <class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh, class Search = BoundaryHoleSpace,
           class Utility = IgQualityUtility, class Termination = DefaultTermination, class Collision = NoCollisions,
           class Sensor = LaserStripeProfiler>
   requires PlannerSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&
@@ -197,9 +202,19 @@ IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& 
     r.features_written = update_surface_features(*space_, *mesh_, params_);
     last_sensor_ = scan.profile_poses.front();
     last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
-    const std::vector<Hole> holes = find_holes(*mesh_, params_);
-    r.holes = holes.size();
-    coverage_ = std::clamp(nbs::estimated_coverage(*mesh_, holes), 0.0, 1.0);
+    if (setting_.coverage_estimate == CoverageEstimate::thesis) {
+      const std::vector<Hole> holes = find_holes(*mesh_, params_);
+      r.holes = holes.size();
+      coverage_ = std::clamp(nbs::estimated_coverage(*mesh_, holes), 0.0, 1.0);
+    } else {
+      Parameters every_loop = params_;
+      every_loop.hole_max_edges = std::numeric_limits<int>::max();
+      const std::vector<Hole> loops = find_holes(*mesh_, every_loop);
+      r.holes = static_cast<std::size_t>(std::ranges::count_if(
+          loops, [&](const Hole& h) { return static_cast<int>(h.vertices.size()) <= params_.hole_max_edges; }));
+      const auto seen = [&](const Vec3& x) { return space_->probability(x) > params_.occupied_threshold; };
+      coverage_ = std::clamp(nbs::estimated_coverage_unseen(*mesh_, loops, seen), 0.0, 1.0);
+    }
     density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
   }
   // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.

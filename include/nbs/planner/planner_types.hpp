@@ -99,6 +99,9 @@ struct PlanResult {
   }
 };
 
+/// Which form of ĉ_m the planner computes (PlannerSetting::coverage_estimate).
+enum class CoverageEstimate : std::uint8_t { unseen_loops, thesis };
+
 /// Run-time knobs of NbsPlanner that are not thesis parameters (those are in Parameters).
 struct PlannerSetting {
   unsigned threads = 1;            ///< candidate evaluation threads (≥ 1); results identical for any count
@@ -118,6 +121,11 @@ struct PlannerSetting {
   /// Rescan alone then gains little (nbs_diagnose: best hole candidate ≤ 5.2k new samples vs ≥ 38k for the best
   /// boundary candidate at the same step).
   bool keep_exploring = true;
+  /// How ĉ_m (Eq. 4.35) counts A_empty. `unseen_loops` (our default): every closed border loop, each weighted by the
+  /// share of its Eq. 4.37 fan not yet measured as surface in the voxel space (estimated_coverage_unseen). `thesis`:
+  /// the loops with h_min..h_max edges, unweighted (estimated_coverage). With the thesis noise the thesis form is
+  /// dominated by triangulation gaps and ignores the unseen part of a partial model (docs/evaluation.md).
+  CoverageEstimate coverage_estimate = CoverageEstimate::unseen_loops;
   /// Coarse-to-fine evaluation of S (our addition to Sec. 4.5.3, see CoarseToFine): all candidates are scored with
   /// `sampling` strides × coarse_factor, the refine_top best again with `sampling`. Default {4, 32}: every 16th
   /// profile / ray first, then the 32 best with every 4th (≈ 1/16 + 32/|S| of the single-pass cost). bench_planner
