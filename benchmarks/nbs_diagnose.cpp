@@ -8,7 +8,7 @@
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
 //                     [--sampling P,R] [--threads N] [--hmax N] [--robust-mesh]
-// --robust-mesh uses NoiseRobustStreamingMesh (search H only).
+// --robust-mesh uses NoiseRobustStreamingMesh and the unseen-loop ĉ_m (search H only).
 // Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
@@ -219,6 +219,7 @@ int run(const Options& opt) {
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
+  if (opt.robust_mesh) ps.coverage_estimate = CoverageEstimate::unseen_loops;
   NbsPlanner<ProbabilisticVoxelSpace<>, Mesh, Search, DiagnosticUtility, MaxScansReached> planner(
       params, presets::dlr_lsp(), unknown, ps);
   planner.termination = MaxScansReached(opt.scans);

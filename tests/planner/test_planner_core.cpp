@@ -3,6 +3,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -178,12 +180,20 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   const nbs::test::SphereOnPedestal sphere;
   const nbs::SimulationSetting sim = loop_setting(5, 4);
   using Robust = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::NoiseRobustStreamingMesh>;
-  Robust p1({}, light_lsp(), sphere_box(), setting(1));
-  Robust p2({}, light_lsp(), sphere_box(), setting(2));
+  nbs::PlannerSetting s1 = setting(1), s2 = setting(2);
+  s1.coverage_estimate = s2.coverage_estimate = nbs::CoverageEstimate::unseen_loops;
+  Robust p1({}, light_lsp(), sphere_box(), s1);
+  Robust p2({}, light_lsp(), sphere_box(), s2);
   const auto a = nbs::run_simulation(p1, sphere, sim);
   const auto b = nbs::run_simulation(p2, sphere, sim);
   REQUIRE(a.records.size() == 4);
   check_same_plan(a, b);
+  // ĉ_m is the unseen-loop form: it equals estimated_coverage_unseen recomputed from the final models.
+  nbs::Parameters every_loop;
+  every_loop.hole_max_edges = std::numeric_limits<int>::max();
+  const auto seen = [&](const Vec3& x) { return p1.space().probability(x) > every_loop.occupied_threshold; };
+  CHECK(p1.estimated_coverage() ==
+        std::clamp(nbs::estimated_coverage_unseen(p1.mesh(), nbs::find_holes(p1.mesh(), every_loop), seen), 0.0, 1.0));
   const auto& mesh = p1.mesh();
   const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
   INFO(rep.problems);

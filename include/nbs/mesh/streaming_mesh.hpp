@@ -51,8 +51,8 @@ struct StreamingMeshSettings {
   /// projected point; the density limitation and the normal stage keep the measured one (`stored_position()`).
   /// Measured with both options (density_depth_m = R_n) on a 60 mm plane at σ = 1 mm, 3 scans: triangles projected
   /// on the plane cover 1.03× its area (3–4× without) and the vertex RMS error is 0.43 mm; on the bunny (C_H, 30
-  /// scans) the vertex RMS error drops from 1.07 to 0.66 mm with half the vertices. Not the default because ĉ_m
-  /// (Eq. 4.35) then stays near 0.70: the triangulation still leaves measured gap loops over ~1/3 of the area.
+  /// scans) the vertex RMS error drops from 1.07 to 0.66 mm with half the vertices. Off here (the thesis's stream as
+  /// written); on in NoiseRobustStreamingMesh (with PlannerSetting::coverage_estimate = unseen_loops in a planner).
   bool project_vertices = false;
 
   [[nodiscard]] static StreamingMeshSettings from(const Parameters& p, const Aabb& unknown_area = {}) {

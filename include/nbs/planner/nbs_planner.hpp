@@ -53,14 +53,14 @@ concept PlannerSensor = CandidateRaySensor<S> && requires(const S& s) {
 
 /// The composed Next-Best-Scan planner. Policies (defaults = the thesis's best method C_H, Tab. 4.5):
 /// - `Space`: voxel space owned by the planner (PlannerSpace);
-/// - `Mesh`: surface mesh owned by the planner (PlannerMesh; default NoiseRobustStreamingMesh, StreamingMesh is the
-///   thesis's Sec. 3.3.1 as written);
+/// - `Mesh`: surface mesh owned by the planner (PlannerMesh; StreamingMesh, the thesis's Sec. 3.3.1, or
+///   NoiseRobustStreamingMesh);
 /// - `Search`: CandidateSearch<Explore, Rescan> (public member `search`);
 /// - `Utility`: UtilityPolicy (public member `utility`, with a `setting`);
 /// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m and d̄_m reached, or n_abort);
 /// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7);
 /// - `Sensor`: LaserStripeProfiler (or AreaSensor).
-template <class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh, class Search = BoundaryHoleSpace,
+template <class Space = ProbabilisticVoxelSpace<>, class Mesh = StreamingMesh, class Search = BoundaryHoleSpace,
           class Utility = IgQualityUtility, class Termination = DefaultTermination, class Collision = NoCollisions,
           class Sensor = LaserStripeProfiler>
   requires PlannerSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&

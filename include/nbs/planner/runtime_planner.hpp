@@ -83,7 +83,7 @@ template <SearchSpace S>
 using RuntimeSearch = std::conditional_t<S == SearchSpace::sphere, SphereSpace,
                                          std::conditional_t<S == SearchSpace::boundary, BoundarySpace, BoundaryHoleSpace>>;
 template <SearchSpace S>
-using RuntimePlannerOf = NbsPlanner<ProbabilisticVoxelSpace<>, NoiseRobustStreamingMesh, RuntimeSearch<S>, SelectionUtility>;
+using RuntimePlannerOf = NbsPlanner<ProbabilisticVoxelSpace<>, StreamingMesh, RuntimeSearch<S>, SelectionUtility>;
 
 /// A planner whose method is chosen at run time. Same API and guarantees as NbsPlanner (LSP sensor, default space,
 /// mesh, termination, infinite workspace). Not copyable (owns the models); movable.
