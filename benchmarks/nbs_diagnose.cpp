@@ -159,13 +159,59 @@ double spearman(const std::vector<double>& a, const std::vector<double>& b) {
 /// with each triangle projected on its mean vertex normal (insensitive to noise across the surface); then the border
 /// loops with ≤ h_max edges (the holes of ĉ_m) and with more, each as count, Eq. 4.37 area and the part of them that
 /// Hole Rescan's probe calls measured (surface seen in the voxel space at the loop centre: a triangulation gap).
+/// NBS_DIAG_LOOPS=K: the K loops of largest unseen area (A_hole · (1 − fan_seen_share)), each with its edge count,
+/// area, seen share, the states of its fan samples in the voxel space (occupied / free / unknown) and, from the
+/// truth, the mean distance of the samples to the true surface and the share of samples whose nearest true sample
+/// is not yet covered (the part of the loop that is really missing surface).
+template <class Planner>
+void print_loops(const Planner& planner, const nbs::Parameters& params, int top) {
+  using namespace nbs;
+  const auto& mesh = planner.mesh();
+  const auto& space = planner.space();
+  const auto seen = [&](const Vec3& x) { return space.probability(x) > params.occupied_threshold; };
+  const std::vector<Hole> loops = find_all_loops(mesh, params);
+  std::vector<std::pair<double, std::size_t>> order;
+  double total = 0.0;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    const double u = loops[i].area_m2 * (1.0 - fan_seen_share(mesh, loops[i], seen));
+    total += u;
+    order.emplace_back(u, i);
+  }
+  std::sort(order.rbegin(), order.rend());
+  std::printf("LOOPS %zu, unseen area %.6f m2\n", loops.size(), total);
+  for (int j = 0; j < top && j < static_cast<int>(order.size()); ++j) {
+    const Hole& h = loops[order[j].second];
+    const std::size_t k = h.vertices.size();
+    int occ = 0, fr = 0, unk = 0, missing = 0;
+    double dsum = 0.0, zmin = 1e9, zmax = -1e9;
+    for (const VertexId v : h.vertices) {
+      zmin = std::min(zmin, mesh.position(v).z());
+      zmax = std::max(zmax, mesh.position(v).z());
+    }
+    for (std::size_t i = 0; i < k; ++i) {
+      const Vec3 mid = 0.5 * (mesh.position(h.vertices[(i + k - 1) % k]) + mesh.position(h.vertices[i]));
+      for (const double t : {0.25, 0.5, 0.75}) {
+        const Vec3 x = h.center + t * (mid - h.center);
+        const double p = space.probability(x);
+        (p > params.occupied_threshold ? occ : p < 0.45 ? fr : unk)++;
+        const auto [idx, d2] = g_shared->sample_tree.nearest(x);
+        dsum += std::sqrt(d2);
+        missing += g_shared->covered[idx] ? 0 : 1;
+      }
+    }
+    const double n = 3.0 * static_cast<double>(k);
+    std::printf("  loop %4zu edges area %.6f unseen %.6f | occ %.2f free %.2f unk %.2f | truth: dist %.2f mm missing %.2f"
+                " | z %.3f..%.3f c (%.3f %.3f %.3f) n (%.2f %.2f %.2f)\n",
+                k, h.area_m2, order[j].first, occ / n, fr / n, unk / n, 1e3 * dsum / n, missing / n, zmin, zmax, h.center.x(),
+                h.center.y(), h.center.z(), h.normal.x(), h.normal.y(), h.normal.z());
+  }
+}
+
 template <class Planner>
 void print_coverage_terms(const Planner& planner, const nbs::Parameters& params, int scan, double c_a,
                           double true_area_m2) {
   using namespace nbs;
   const auto& mesh = planner.mesh();
-  Parameters every_loop = params;
-  every_loop.hole_max_edges = 1 << 30;
   double proj = 0.0;
   mesh.for_each_face([&](const MeshFace& f) {
     const Vec3 n = (mesh.normal(f.a) + mesh.normal(f.b) + mesh.normal(f.c)).normalized();
@@ -177,7 +223,7 @@ void print_coverage_terms(const Planner& planner, const nbs::Parameters& params,
     double area = 0.0, area_measured = 0.0;
   } small, large;
   const HoleRescan probe;
-  for (const Hole& h : find_holes(mesh, every_loop)) {
+  for (const Hole& h : find_all_loops(mesh, params)) {
     Loops& l = static_cast<int>(h.vertices.size()) <= params.hole_max_edges ? small : large;
     const bool measured = probe.measured(planner.space(), h);
     ++l.n;
@@ -185,6 +231,7 @@ void print_coverage_terms(const Planner& planner, const nbs::Parameters& params,
     l.n_measured += measured ? 1 : 0;
     l.area_measured += measured ? h.area_m2 : 0.0;
   }
+  if (const char* top = std::getenv("NBS_DIAG_LOOPS")) print_loops(planner, params, std::atoi(top));
   std::printf("COV %2d c_m %.3f | true %.5f filled %.5f proj %.5f m2 | loops<=h_max %zu %.5f m2 (measured %zu %.5f) |"
               " loops>h_max %zu %.5f m2 (measured %zu %.5f)\n",
               scan, planner.estimated_coverage(), c_a * true_area_m2, filled_area(mesh), proj, small.n, small.area,

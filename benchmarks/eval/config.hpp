@@ -3,12 +3,14 @@
 /// Command line and configuration file of nbs_eval. Everything is validated here, before any work starts.
 ///
 /// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
-/// e.g. "voxel_size_m": 0.005, "max_scans": 30) and "sensor": a laser stripe profiler preset ("dlr_lsp",
-/// "scancontrol_2700_100"). Unknown keys, wrong types and out-of-range values are errors naming the key.
+/// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
+/// "scancontrol_2700_100"), "mesh": "thesis" | "noise_robust" and "coverage_estimate": "thesis" | "unseen_loops"
+/// (PlannerSetting::noise_robust_mesh, ::coverage_estimate). Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <charconv>
 #include <cstdint>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -33,7 +35,31 @@ struct UsageError : std::runtime_error {
 struct Setup {
   Parameters params{};
   std::string sensor = "dlr_lsp";
+  std::string mesh = "thesis";               ///< "thesis" | "noise_robust" (PlannerSetting::noise_robust_mesh)
+  std::string coverage_estimate = "thesis";  ///< "thesis" | "unseen_loops" (PlannerSetting::coverage_estimate)
+
+  /// The planner setting this set-up asks for (threads and seed are the runner's).
+  [[nodiscard]] PlannerSetting planner_setting() const {
+    PlannerSetting p;
+    p.noise_robust_mesh = mesh == "noise_robust";
+    p.coverage_estimate = coverage_estimate == "unseen_loops" ? CoverageEstimate::unseen_loops : CoverageEstimate::thesis;
+    return p;
+  }
 };
+
+namespace detail {
+/// The string value of config key `key`, one of `valid`. Throws UsageError naming the key and the valid values.
+[[nodiscard]] inline std::string choice(const nlohmann::json& v, const std::string& key,
+                                        std::initializer_list<std::string_view> valid) {
+  std::string names;
+  for (std::string_view n : valid) names += (names.empty() ? "" : " | ") + std::string(n);
+  if (!v.is_string()) throw UsageError("config key '" + key + "' must be a string (" + names + "), got " + v.dump());
+  const std::string s = v.get<std::string>();
+  for (std::string_view n : valid)
+    if (s == n) return s;
+  throw UsageError("config key '" + key + "' must be one of " + names + ", got '" + s + "'");
+}
+}  // namespace detail
 
 [[nodiscard]] inline LaserStripeProfiler sensor_preset(const std::string& name) {
   if (name == "dlr_lsp") return presets::dlr_lsp();
@@ -95,6 +121,8 @@ void for_each_parameter(Parameters& p, F&& f) {
   nlohmann::json j = nlohmann::json::object();
   detail::for_each_parameter(s.params, [&](const char* name, auto& field) { j[name] = field; });
   j["sensor"] = s.sensor;
+  j["mesh"] = s.mesh;
+  j["coverage_estimate"] = s.coverage_estimate;
   return j;
 }
 
@@ -115,6 +143,18 @@ void for_each_parameter(Parameters& p, F&& f) {
       (void)sensor_preset(s.sensor);
       continue;
     }
+    try {
+      if (key == "mesh") {
+        s.mesh = detail::choice(value, key, {"thesis", "noise_robust"});
+        continue;
+      }
+      if (key == "coverage_estimate") {
+        s.coverage_estimate = detail::choice(value, key, {"thesis", "unseen_loops"});
+        continue;
+      }
+    } catch (const UsageError& e) {
+      throw UsageError(origin + ": " + e.what());
+    }
     bool found = false;
     try {
       detail::for_each_parameter(s.params, [&](const char* name, auto& field) {
@@ -129,7 +169,7 @@ void for_each_parameter(Parameters& p, F&& f) {
     if (!found) {
       std::string valid;
       detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
-      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor)");
+      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate)");
     }
   }
   try {
@@ -180,7 +220,8 @@ inline constexpr std::string_view kUsage =
     "  --seed N          base seed; run r uses a seed derived from (seed, r) only (default 1)\n"
     "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
-    "  --config FILE     JSON: any nbs::Parameters field by name, and \"sensor\": dlr_lsp | scancontrol_2700_100\n"
+    "  --config FILE     JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp | scancontrol_2700_100,\n"
+    "                    \"mesh\": thesis | noise_robust, \"coverage_estimate\": thesis | unseen_loops\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"

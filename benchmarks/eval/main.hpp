@@ -213,7 +213,8 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     config["c_obs"] = c_obs;
     write_text(dir / "eval.json", config.dump(2) + "\n");
 
-    const RunContext ctx{scanner, truth, setup.params, sensor, unknown_area_of(mesh, o.size_m), o.scans, c_obs};
+    const RunContext ctx{scanner, truth, setup.params, sensor, unknown_area_of(mesh, o.size_m), o.scans, c_obs,
+                         setup.planner_setting()};
     std::ofstream lines(dir / "runs.jsonl", std::ios::app);
     if (!lines) throw std::runtime_error("cannot append to '" + (dir / "runs.jsonl").string() + "'");
     Progress progress(todo.size(), log);

@@ -45,11 +45,12 @@ struct RunContext {
   Aabb unknown_area;
   int n_abort = 30;
   double c_obs = 0.0;
+  PlannerSetting setting{};  ///< mesh and ĉ_m form of the config; threads and seed are set per run
 };
 
 /// Runs method `m`, run index `run` with seed `seed`. Throws what the planner or scanner throw.
 [[nodiscard]] inline RunRecord run_one(const RunContext& ctx, const Method& m, int run, std::uint64_t seed) {
-  PlannerSetting setting;
+  PlannerSetting setting = ctx.setting;
   setting.threads = 1;
   setting.seed = seed;
   Parameters params = ctx.params;

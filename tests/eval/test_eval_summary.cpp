@@ -180,6 +180,19 @@ TEST_CASE("run record JSON round trip", "[eval]") {
   CHECK_THROWS(nbs::eval::record_from_json(broken));
 }
 
+TEST_CASE("config file: mesh and coverage_estimate choose the planner setting", "[eval]") {
+  const nbs::eval::Setup d = nbs::eval::parse_setup("{}", "cfg");
+  CHECK_FALSE(d.planner_setting().noise_robust_mesh);
+  CHECK(d.planner_setting().coverage_estimate == nbs::CoverageEstimate::thesis);
+  const nbs::eval::Setup r =
+      nbs::eval::parse_setup(R"({"mesh": "noise_robust", "coverage_estimate": "unseen_loops"})", "cfg");
+  CHECK(r.planner_setting().noise_robust_mesh);
+  CHECK(r.planner_setting().coverage_estimate == nbs::CoverageEstimate::unseen_loops);
+  // The written configuration names them, so a rerun with another choice in the same --out is refused.
+  CHECK(nbs::eval::setup_json(r)["mesh"] == "noise_robust");
+  CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "thesis");
+}
+
 TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
   const nbs::eval::Setup s =
       nbs::eval::parse_setup(R"({"voxel_size_m": 0.004, "max_scans": 12, "sensor": "scancontrol_2700_100"})", "cfg");
@@ -204,6 +217,8 @@ TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
   CHECK_THAT(error_of(R"({"voxel_size_m": "small"})"), Catch::Contains("'voxel_size_m' must be a number"));
   CHECK_THAT(error_of(R"({"sensor": "kinect"})"), Catch::Contains("unknown sensor preset 'kinect'"));
   CHECK_THAT(error_of(R"({"sensor": "asus_xtion_pro"})"), Catch::Contains("area sensor"));
+  CHECK_THAT(error_of(R"({"mesh": "smooth"})"), Catch::Contains("'mesh' must be one of thesis | noise_robust"));
+  CHECK_THAT(error_of(R"({"coverage_estimate": 1})"), Catch::Contains("'coverage_estimate' must be a string"));
   CHECK_THAT(error_of(R"([1, 2])"), Catch::Contains("JSON object"));
   CHECK_THAT(error_of(R"({"voxel_size_m": )"), Catch::Contains("not valid JSON"));
 }

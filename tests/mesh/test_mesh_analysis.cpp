@@ -89,20 +89,26 @@ TEST_CASE("holes punched in a sphere are found with areas within 15 % (Sec. 4.4,
   }
 }
 
-TEST_CASE("estimated coverage of a scanned dome matches the Eq. 4.35-4.37 oracle", "[mesh]") {
-  // Seen from above, the mesh is a spherical cap down to height z0; its rim loop is the only large hole. Eq. 4.37
-  // estimates the missing part by the flat rim disk, so ĉ_m = cap / (cap + disk); for a full hemisphere 2/3.
-  const double r = 0.04;
-  nbs::test::Sphere dome(Vec3(0, 0, 0), r);
+constexpr double kDomeRadius = 0.04;
+
+/// Streams a hemisphere of radius kDomeRadius on z = 0, scanned once from above (12 profiles), into `mesh`: a cap
+/// with one large rim loop.
+void scan_dome(nbs::StreamingMesh& mesh) {
+  nbs::test::Sphere dome(Vec3(0, 0, 0), kDomeRadius);
   dome.min_z = 0.0;
   nbs::test::StripeSensor sensor;
   sensor.fov_rad = 0.6;
   sensor.rays = 400;
-  nbs::StreamingMesh mesh;
   mesh.integrate(nbs::test::scan_path(dome, down_at(0, 0.05, 0.2), 0.1, sensor, 12));
-  nbs::Parameters p;
-  p.hole_max_edges = 100000;  // the rim loop counts as the hole
-  const auto holes = nbs::find_holes(mesh, p);
+}
+
+TEST_CASE("estimated coverage of a scanned dome matches the Eq. 4.35-4.37 oracle", "[mesh]") {
+  // Seen from above, the mesh is a spherical cap down to height z0; its rim loop is the only large hole. Eq. 4.37
+  // estimates the missing part by the flat rim disk, so ĉ_m = cap / (cap + disk); for a full hemisphere 2/3.
+  const double r = kDomeRadius;
+  nbs::StreamingMesh mesh;
+  scan_dome(mesh);
+  const auto holes = nbs::find_all_loops(mesh, nbs::Parameters{});  // the rim loop counts as the hole
   const nbs::Hole* rim = nullptr;
   for (const auto& h : holes)
     if (!rim || h.area_m2 > rim->area_m2) rim = &h;
@@ -119,17 +125,9 @@ TEST_CASE("estimated coverage of a scanned dome matches the Eq. 4.35-4.37 oracle
 
 TEST_CASE("estimated coverage from unseen loops: Eq. 4.35 with each loop weighted by its unseen fan share", "[mesh]") {
   // The scanned dome of the test above: its rim loop is the only large loop, its Eq. 4.37 fan the flat rim disk.
-  const double r = 0.04;
-  nbs::test::Sphere dome(Vec3(0, 0, 0), r);
-  dome.min_z = 0.0;
-  nbs::test::StripeSensor sensor;
-  sensor.fov_rad = 0.6;
-  sensor.rays = 400;
   nbs::StreamingMesh mesh;
-  mesh.integrate(nbs::test::scan_path(dome, down_at(0, 0.05, 0.2), 0.1, sensor, 12));
-  nbs::Parameters p;
-  p.hole_max_edges = 100000;
-  const auto loops = nbs::find_holes(mesh, p);
+  scan_dome(mesh);
+  const auto loops = nbs::find_all_loops(mesh, nbs::Parameters{});
   const nbs::Hole* rim = nullptr;
   for (const auto& h : loops)
     if (!rim || h.area_m2 > rim->area_m2) rim = &h;

@@ -189,11 +189,10 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   REQUIRE(a.records.size() == 4);
   check_same_plan(a, b);
   // ĉ_m is the unseen-loop form: it equals estimated_coverage_unseen recomputed from the final models.
-  nbs::Parameters every_loop;
-  every_loop.hole_max_edges = std::numeric_limits<int>::max();
-  const auto seen = [&](const Vec3& x) { return p1.space().probability(x) > every_loop.occupied_threshold; };
+  const nbs::Parameters params;
+  const auto seen = [&](const Vec3& x) { return p1.space().probability(x) > params.occupied_threshold; };
   CHECK(p1.estimated_coverage() ==
-        std::clamp(nbs::estimated_coverage_unseen(p1.mesh(), nbs::find_holes(p1.mesh(), every_loop), seen), 0.0, 1.0));
+        std::clamp(nbs::estimated_coverage_unseen(p1.mesh(), nbs::find_all_loops(p1.mesh(), params), seen), 0.0, 1.0));
   const auto& mesh = p1.mesh();
   const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
   INFO(rep.problems);
@@ -204,6 +203,15 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   for (nbs::VertexId v = 0; v < mesh.vertex_count(); ++v)
     moved += mesh.has_normal(v) && mesh.position(v) != mesh.stored_position(v) ? 1 : 0;
   CHECK(moved > mesh.vertex_count() / 2);
+
+  // PlannerSetting::noise_robust_mesh gives a StreamingMesh policy the same mesh: the same plan, step for step.
+  nbs::PlannerSetting s3 = s1;
+  s3.noise_robust_mesh = true;
+  nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh> p3({}, light_lsp(), sphere_box(), s3);
+  const auto c = nbs::run_simulation(p3, sphere, sim);
+  check_same_plan(a, c);
+  CHECK(p3.mesh().vertex_count() == mesh.vertex_count());
+  CHECK(p3.mesh().settings().project_vertices);
 }
 
 TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[planner][loop]") {

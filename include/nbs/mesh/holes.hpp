@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <limits>
 #include <vector>
 
 #include "nbs/core/parameters.hpp"
@@ -82,6 +83,14 @@ template <EdgeMesh M>
   return holes;
 }
 
+/// Every closed border loop with at least h_min edges (find_holes without the h_max limit), e.g. for
+/// estimated_coverage_unseen.
+template <EdgeMesh M>
+[[nodiscard]] std::vector<Hole> find_all_loops(const M& mesh, Parameters params) {
+  params.hole_max_edges = std::numeric_limits<int>::max();
+  return find_holes(mesh, params);
+}
+
 /// A_filled, Eq. (4.36): total triangle area, m² (difference vectors, as for Eq. 4.37).
 template <EdgeMesh M>
 [[nodiscard]] double filled_area(const M& mesh) {
@@ -92,14 +101,22 @@ template <EdgeMesh M>
   return a;
 }
 
+namespace detail {
+/// Eq. (4.35): A_filled / (A_filled + Σ empty(h)) over `holes`; 0 for a mesh without triangles.
+template <EdgeMesh M, class Empty>
+[[nodiscard]] double coverage_ratio(const M& mesh, const std::vector<Hole>& holes, Empty&& empty_of) {
+  const double filled = filled_area(mesh);
+  double empty = 0.0;
+  for (const Hole& h : holes) empty += empty_of(h);
+  return filled > 0.0 ? filled / (filled + empty) : 0.0;
+}
+}  // namespace detail
+
 /// Estimated mesh coverage ĉ_m = A_filled / (A_filled + A_empty), Eq. (4.35), A_empty = Σ A_hole over `holes`.
 /// 0 for a mesh without triangles.
 template <EdgeMesh M>
 [[nodiscard]] double estimated_coverage(const M& mesh, const std::vector<Hole>& holes) {
-  const double filled = filled_area(mesh);
-  double empty = 0.0;
-  for (const Hole& h : holes) empty += h.area_m2;
-  return filled > 0.0 ? filled / (filled + empty) : 0.0;
+  return detail::coverage_ratio(mesh, holes, [](const Hole& h) { return h.area_m2; });
 }
 
 /// Share of hole h's Eq. 4.37 fan that `seen(x)` (x: world point, m) calls measured surface: three samples per fan
@@ -118,16 +135,14 @@ template <EdgeMesh M, class Seen>
 }
 
 /// ĉ_m = A_filled / (A_filled + A_empty) (Eq. 4.35) with A_empty = Σ A_hole · (1 − fan_seen_share) over `loops`,
-/// meant to be every closed border loop (find_holes with h_max unbounded). Our reading for noisy streams: a loop
+/// meant to be every closed border loop (find_all_loops). Our reading for noisy streams: a loop
 /// whose fan lies in voxels already measured as surface is a gap of the triangulation, not missing surface, and the
 /// not yet seen surface of a partial model lies in loops longer than any h_max. `seen(x)`: x lies in a voxel
 /// measured as surface (e.g. p > Parameters::occupied_threshold). 0 for a mesh without triangles.
 template <EdgeMesh M, class Seen>
 [[nodiscard]] double estimated_coverage_unseen(const M& mesh, const std::vector<Hole>& loops, Seen&& seen) {
-  const double filled = filled_area(mesh);
-  double empty = 0.0;
-  for (const Hole& h : loops) empty += h.area_m2 * (1.0 - fan_seen_share(mesh, h, seen));
-  return filled > 0.0 ? filled / (filled + empty) : 0.0;
+  return detail::coverage_ratio(mesh, loops,
+                                [&](const Hole& h) { return h.area_m2 * (1.0 - fan_seen_share(mesh, h, seen)); });
 }
 
 }  // namespace nbs

@@ -426,7 +426,7 @@ public:
   explicit NoiseRobustStreamingMesh(const Parameters& p = {}, const Aabb& unknown_area = {})
       : StreamingMesh(robust(StreamingMeshSettings::from(p, unknown_area))) {}
 
-private:
+  /// `s` with both noise-robust options on (density_depth_m = s.normal_radius_m, project_vertices).
   [[nodiscard]] static StreamingMeshSettings robust(StreamingMeshSettings s) {
     s.density_depth_m = s.normal_radius_m;
     s.project_vertices = true;

@@ -10,9 +10,9 @@
 /// result is identical for any thread count (so is every plan: the rest is sequential and deterministic).
 
 #include <algorithm>
-#include <limits>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <utility>
@@ -96,7 +96,7 @@ public:
         box_((detail::require_unknown_area(unknown_area), unknown_area)),
         setting_(checked(setting, geometry_)),
         space_(detail::make_planner_space<Space>(params_, box_, sensor_)),
-        mesh_(std::make_unique<Mesh>(params_, box_)),
+        mesh_(detail::make_planner_mesh<Mesh>(params_, box_, setting_.noise_robust_mesh)),
         termination(detail::make_termination<Termination>(params_)),
         collision(detail::make_collision<Collision>(*space_)),
         control_(params_.mode_switch_gain) {}
@@ -207,9 +207,7 @@ IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& 
       r.holes = holes.size();
       coverage_ = std::clamp(nbs::estimated_coverage(*mesh_, holes), 0.0, 1.0);
     } else {
-      Parameters every_loop = params_;
-      every_loop.hole_max_edges = std::numeric_limits<int>::max();
-      const std::vector<Hole> loops = find_holes(*mesh_, every_loop);
+      const std::vector<Hole> loops = find_all_loops(*mesh_, params_);
       r.holes = static_cast<std::size_t>(std::ranges::count_if(
           loops, [&](const Hole& h) { return static_cast<int>(h.vertices.size()) <= params_.hole_max_edges; }));
       const auto seen = [&](const Vec3& x) { return space_->probability(x) > params_.occupied_threshold; };

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <concepts>
 #include <memory>
+#include <type_traits>
 
 #include "nbs/planner/detail/components.hpp"
 
@@ -32,6 +33,19 @@ template <class Space, class Sensor>
   } else {
     return std::make_unique<Space>(params.voxel_size_m, box);
   }
+}
+
+/// The mesh policy over `box`; with PlannerSetting::noise_robust_mesh a StreamingMesh gets the settings of
+/// NoiseRobustStreamingMesh. Throws InvalidArgument if that flag is set for a Mesh that is no StreamingMesh.
+template <class Mesh>
+[[nodiscard]] std::unique_ptr<Mesh> make_planner_mesh(const Parameters& params, const Aabb& box, bool noise_robust) {
+  if constexpr (std::is_same_v<Mesh, StreamingMesh>) {
+    if (noise_robust)
+      return std::make_unique<Mesh>(NoiseRobustStreamingMesh::robust(StreamingMeshSettings::from(params, box)));
+  } else if constexpr (!std::is_base_of_v<StreamingMesh, Mesh>) {
+    require(!noise_robust, "PlannerSetting.noise_robust_mesh needs a StreamingMesh mesh policy");
+  }
+  return std::make_unique<Mesh>(params, box);
 }
 
 /// The termination criterion from Parameters: DefaultTermination by default_termination(params), else
