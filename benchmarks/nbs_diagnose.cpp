@@ -179,6 +179,61 @@ void print_loops(const Planner& planner, const nbs::Parameters& params, int top)
   }
   std::sort(order.rbegin(), order.rend());
   std::printf("LOOPS %zu, unseen area %.6f m2\n", loops.size(), total);
+  // Where A_filled's excess lies: triangle area by the angle between the face normal and its mean vertex normal.
+  double by_angle[4] = {0, 0, 0, 0};
+  mesh.for_each_face([&](const MeshFace& f) {
+    const Vec3 a = mesh.position(f.a);
+    const Vec3 c = (mesh.position(f.b) - a).cross(mesh.position(f.c) - a);
+    const Vec3 n = (mesh.normal(f.a) + mesh.normal(f.b) + mesh.normal(f.c)).normalized();
+    const double deg = std::acos(std::clamp(std::abs(c.normalized().dot(n)), 0.0, 1.0)) * 180.0 / M_PI;
+    by_angle[deg < 15 ? 0 : deg < 30 ? 1 : deg < 60 ? 2 : 3] += 0.5 * c.norm();
+  });
+  std::printf("FACES area by face-vs-vertex-normal angle: <15 %.5f, 15-30 %.5f, 30-60 %.5f, >=60 %.5f m2\n",
+              by_angle[0], by_angle[1], by_angle[2], by_angle[3]);
+  // The same after moving every meshed vertex onto the weighted-PCA plane of ALL stored points within R_n now (an
+  // offline test of whether the zig-zag comes from projecting onto the first, sparse plane).
+  {
+    const std::size_t nv = mesh.vertex_count();
+    std::vector<Vec3> stored(nv);
+    for (std::size_t v = 0; v < nv; ++v) stored[v] = mesh.stored_position(static_cast<VertexId>(v));
+    const detail::PointKdTree tree(stored);
+    const double rn = params.normal_radius_m, inv = 1.0 / (rn * rn);
+    std::vector<Vec3> moved(nv), normal(nv);
+    std::vector<Vec3> pts;
+    std::vector<double> wts;
+    for (std::size_t v = 0; v < nv; ++v) {
+      moved[v] = mesh.position(static_cast<VertexId>(v));
+      if (!mesh.has_normal(static_cast<VertexId>(v))) continue;
+      normal[v] = mesh.normal(static_cast<VertexId>(v));
+      Vec3 mean = Vec3::Zero();
+      double wsum = 0.0;
+      Mat3 cov = Mat3::Zero();
+      pts.clear();
+      wts.clear();
+      tree.for_each_within(stored[v], rn, [&](std::size_t q, double d2) {
+        pts.push_back(stored[q]);
+        wts.push_back(detail::pca_weight(d2, inv));
+      });
+      for (std::size_t i = 0; i < pts.size(); ++i) mean += wts[i] * pts[i], wsum += wts[i];
+      mean /= wsum;
+      for (std::size_t i = 0; i < pts.size(); ++i) cov += wts[i] * (pts[i] - mean) * (pts[i] - mean).transpose();
+      const Eigen::SelfAdjointEigenSolver<Mat3> es(cov);
+      Vec3 n = es.eigenvectors().col(0);
+      if (n.dot(normal[v]) < 0) n = -n;
+      normal[v] = n;
+      moved[v] = stored[v] - (stored[v] - mean).dot(n) * n;
+    }
+    double again[4] = {0, 0, 0, 0}, total_area = 0.0;
+    mesh.for_each_face([&](const MeshFace& f) {
+      const Vec3 c = (moved[f.b] - moved[f.a]).cross(moved[f.c] - moved[f.a]);
+      const Vec3 n = (normal[f.a] + normal[f.b] + normal[f.c]).normalized();
+      const double deg = std::acos(std::clamp(std::abs(c.normalized().dot(n)), 0.0, 1.0)) * 180.0 / M_PI;
+      again[deg < 15 ? 0 : deg < 30 ? 1 : deg < 60 ? 2 : 3] += 0.5 * c.norm();
+      total_area += 0.5 * c.norm();
+    });
+    std::printf("FACES re-projected on all stored points in R_n: total %.5f m2; <15 %.5f, 15-30 %.5f, 30-60 %.5f, >=60 %.5f\n",
+                total_area, again[0], again[1], again[2], again[3]);
+  }
   for (int j = 0; j < top && j < static_cast<int>(order.size()); ++j) {
     const Hole& h = loops[order[j].second];
     const std::size_t k = h.vertices.size();

@@ -5,7 +5,8 @@
 /// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
 /// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
 /// "scancontrol_2700_100"), "mesh": "thesis" | "noise_robust" and "coverage_estimate": "thesis" | "unseen_loops"
-/// (PlannerSetting::noise_robust_mesh, ::coverage_estimate). Unknown keys, wrong types and out-of-range values are errors naming the key.
+/// and "keep_exploring": true | false (PlannerSetting::noise_robust_mesh, ::coverage_estimate, ::keep_exploring).
+/// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <charconv>
 #include <cstdint>
@@ -37,12 +38,14 @@ struct Setup {
   std::string sensor = "dlr_lsp";
   std::string mesh = "thesis";               ///< "thesis" | "noise_robust" (PlannerSetting::noise_robust_mesh)
   std::string coverage_estimate = "thesis";  ///< "thesis" | "unseen_loops" (PlannerSetting::coverage_estimate)
+  bool keep_exploring = PlannerSetting{}.keep_exploring;  ///< PlannerSetting::keep_exploring (false: the thesis's HR)
 
   /// The planner setting this set-up asks for (threads and seed are the runner's).
   [[nodiscard]] PlannerSetting planner_setting() const {
     PlannerSetting p;
     p.noise_robust_mesh = mesh == "noise_robust";
     p.coverage_estimate = coverage_estimate == "unseen_loops" ? CoverageEstimate::unseen_loops : CoverageEstimate::thesis;
+    p.keep_exploring = keep_exploring;
     return p;
   }
 };
@@ -123,6 +126,7 @@ void for_each_parameter(Parameters& p, F&& f) {
   j["sensor"] = s.sensor;
   j["mesh"] = s.mesh;
   j["coverage_estimate"] = s.coverage_estimate;
+  j["keep_exploring"] = s.keep_exploring;
   return j;
 }
 
@@ -152,6 +156,11 @@ void for_each_parameter(Parameters& p, F&& f) {
         s.coverage_estimate = detail::choice(value, key, {"thesis", "unseen_loops"});
         continue;
       }
+      if (key == "keep_exploring") {
+        if (!value.is_boolean()) throw UsageError("config key 'keep_exploring' must be true or false, got " + value.dump());
+        s.keep_exploring = value.get<bool>();
+        continue;
+      }
     } catch (const UsageError& e) {
       throw UsageError(origin + ": " + e.what());
     }
@@ -169,7 +178,7 @@ void for_each_parameter(Parameters& p, F&& f) {
     if (!found) {
       std::string valid;
       detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
-      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate)");
+      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring)");
     }
   }
   try {
@@ -221,7 +230,8 @@ inline constexpr std::string_view kUsage =
     "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
     "  --config FILE     JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp | scancontrol_2700_100,\n"
-    "                    \"mesh\": thesis | noise_robust, \"coverage_estimate\": thesis | unseen_loops\n"
+    "                    \"mesh\": thesis | noise_robust, \"coverage_estimate\": thesis | unseen_loops,\n"
+    "                    \"keep_exploring\": true | false\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"

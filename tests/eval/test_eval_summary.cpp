@@ -188,6 +188,8 @@ TEST_CASE("config file: mesh and coverage_estimate choose the planner setting", 
       nbs::eval::parse_setup(R"({"mesh": "noise_robust", "coverage_estimate": "unseen_loops"})", "cfg");
   CHECK(r.planner_setting().noise_robust_mesh);
   CHECK(r.planner_setting().coverage_estimate == nbs::CoverageEstimate::unseen_loops);
+  CHECK(d.planner_setting().keep_exploring == nbs::PlannerSetting{}.keep_exploring);
+  CHECK_FALSE(nbs::eval::parse_setup(R"({"keep_exploring": false})", "cfg").planner_setting().keep_exploring);
   // The written configuration names them, so a rerun with another choice in the same --out is refused.
   CHECK(nbs::eval::setup_json(r)["mesh"] == "noise_robust");
   CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "thesis");
@@ -219,6 +221,7 @@ TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
   CHECK_THAT(error_of(R"({"sensor": "asus_xtion_pro"})"), Catch::Contains("area sensor"));
   CHECK_THAT(error_of(R"({"mesh": "smooth"})"), Catch::Contains("'mesh' must be one of thesis | noise_robust"));
   CHECK_THAT(error_of(R"({"coverage_estimate": 1})"), Catch::Contains("'coverage_estimate' must be a string"));
+  CHECK_THAT(error_of(R"({"keep_exploring": "no"})"), Catch::Contains("'keep_exploring' must be true or false"));
   CHECK_THAT(error_of(R"([1, 2])"), Catch::Contains("JSON object"));
   CHECK_THAT(error_of(R"({"voxel_size_m": )"), Catch::Contains("not valid JSON"));
 }
