@@ -8,11 +8,12 @@
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
 //                     [--sampling P,R] [--threads N] [--hmax N] [--robust-mesh]
-// --robust-mesh uses NoiseRobustStreamingMesh and the unseen-loop ĉ_m (search H only).
+// --robust-mesh uses the noise-robust mesh (PlannerSetting::noise_robust_mesh) and the unseen-loop ĉ_m (search H only).
 // Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
-// (see print_coverage_terms).
+// (see print_coverage_terms); with it, NBS_DIAG_LOOPS=K also prints the K loops of largest unseen area and where the
+// triangle area lies by face tilt (see print_loops).
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +21,7 @@
 #include <cstdlib>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nbs/candidates/hole_rescan.hpp"
@@ -159,10 +161,13 @@ double spearman(const std::vector<double>& a, const std::vector<double>& b) {
 /// with each triangle projected on its mean vertex normal (insensitive to noise across the surface); then the border
 /// loops with ≤ h_max edges (the holes of ĉ_m) and with more, each as count, Eq. 4.37 area and the part of them that
 /// Hole Rescan's probe calls measured (surface seen in the voxel space at the loop centre: a triangulation gap).
+/// Voxel probability below which print_loops calls a fan sample "free" (observed empty; the prior is 0.5).
+constexpr double kFreeBelow = 0.45;
+
 /// NBS_DIAG_LOOPS=K: the K loops of largest unseen area (A_hole · (1 − fan_seen_share)), each with its edge count,
 /// area, seen share, the states of its fan samples in the voxel space (occupied / free / unknown) and, from the
-/// truth, the mean distance of the samples to the true surface and the share of samples whose nearest true sample
-/// is not yet covered (the part of the loop that is really missing surface).
+/// truth, the mean distance of the samples to the true surface, the share of samples whose nearest true sample is a
+/// non-bottom one not yet covered (really missing surface) and the share whose nearest is a bottom sample.
 template <class Planner>
 void print_loops(const Planner& planner, const nbs::Parameters& params, int top) {
   using namespace nbs;
@@ -237,27 +242,25 @@ void print_loops(const Planner& planner, const nbs::Parameters& params, int top)
   for (int j = 0; j < top && j < static_cast<int>(order.size()); ++j) {
     const Hole& h = loops[order[j].second];
     const std::size_t k = h.vertices.size();
-    int occ = 0, fr = 0, unk = 0, missing = 0;
+    int occ = 0, fr = 0, unk = 0, missing = 0, bottom = 0;
     double dsum = 0.0, zmin = 1e9, zmax = -1e9;
     for (const VertexId v : h.vertices) {
       zmin = std::min(zmin, mesh.position(v).z());
       zmax = std::max(zmax, mesh.position(v).z());
     }
-    for (std::size_t i = 0; i < k; ++i) {
-      const Vec3 mid = 0.5 * (mesh.position(h.vertices[(i + k - 1) % k]) + mesh.position(h.vertices[i]));
-      for (const double t : {0.25, 0.5, 0.75}) {
-        const Vec3 x = h.center + t * (mid - h.center);
-        const double p = space.probability(x);
-        (p > params.occupied_threshold ? occ : p < 0.45 ? fr : unk)++;
-        const auto [idx, d2] = g_shared->sample_tree.nearest(x);
-        dsum += std::sqrt(d2);
-        missing += g_shared->covered[idx] ? 0 : 1;
-      }
-    }
+    for_each_fan_sample(mesh, h, [&](const Vec3& x) {
+      const double p = space.probability(x);
+      (p > params.occupied_threshold ? occ : p < kFreeBelow ? fr : unk)++;
+      const auto [idx, d2] = g_shared->sample_tree.nearest(x);
+      dsum += std::sqrt(d2);
+      if (g_shared->samples->bottom[idx]) ++bottom;  // on the pedestal: no scan can cover it
+      else missing += g_shared->covered[idx] ? 0 : 1;
+    });
     const double n = 3.0 * static_cast<double>(k);
     std::printf("  loop %4zu edges area %.6f unseen %.6f | occ %.2f free %.2f unk %.2f | truth: dist %.2f mm missing %.2f"
-                " | z %.3f..%.3f c (%.3f %.3f %.3f) n (%.2f %.2f %.2f)\n",
-                k, h.area_m2, order[j].first, occ / n, fr / n, unk / n, 1e3 * dsum / n, missing / n, zmin, zmax, h.center.x(),
+                " bottom %.2f | z %.3f..%.3f c (%.3f %.3f %.3f) n (%.2f %.2f %.2f)\n",
+                k, h.area_m2, order[j].first, occ / n, fr / n, unk / n, 1e3 * dsum / n, missing / n, bottom / n, zmin,
+                zmax, h.center.x(),
                 h.center.y(), h.center.z(), h.normal.x(), h.normal.y(), h.normal.z());
   }
 }
@@ -321,7 +324,10 @@ int run(const Options& opt) {
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
-  if (opt.robust_mesh) ps.coverage_estimate = CoverageEstimate::unseen_loops;
+  if (opt.robust_mesh) {
+    ps.noise_robust_mesh = true;
+    ps.coverage_estimate = CoverageEstimate::unseen_loops;
+  }
   NbsPlanner<ProbabilisticVoxelSpace<>, Mesh, Search, DiagnosticUtility, MaxScansReached> planner(
       params, presets::dlr_lsp(), unknown, ps);
   planner.termination = MaxScansReached(opt.scans);
@@ -400,7 +406,7 @@ int main(int argc, char** argv) {
       return a == "--help" ? 0 : 2;
     }
   }
-  if (opt.robust_mesh) return run<nbs::BoundaryHoleSpace, nbs::NoiseRobustStreamingMesh>(opt);
+  if (opt.robust_mesh) return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);  // PlannerSetting::noise_robust_mesh
   if (opt.search == 'S') return run<nbs::SphereSpace, nbs::StreamingMesh>(opt);
   if (opt.search == 'B') return run<nbs::BoundarySpace, nbs::StreamingMesh>(opt);
   return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);

@@ -11,7 +11,7 @@
 #include <charconv>
 #include <cstdint>
 #include <fstream>
-#include <initializer_list>
+#include <cstddef>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -36,31 +36,26 @@ struct UsageError : std::runtime_error {
 struct Setup {
   Parameters params{};
   std::string sensor = "dlr_lsp";
-  std::string mesh = "thesis";               ///< "thesis" | "noise_robust" (PlannerSetting::noise_robust_mesh)
-  std::string coverage_estimate = "thesis";  ///< "thesis" | "unseen_loops" (PlannerSetting::coverage_estimate)
-  bool keep_exploring = PlannerSetting{}.keep_exploring;  ///< PlannerSetting::keep_exploring (false: the thesis's HR)
-
-  /// The planner setting this set-up asks for (threads and seed are the runner's).
-  [[nodiscard]] PlannerSetting planner_setting() const {
-    PlannerSetting p;
-    p.noise_robust_mesh = mesh == "noise_robust";
-    p.coverage_estimate = coverage_estimate == "unseen_loops" ? CoverageEstimate::unseen_loops : CoverageEstimate::thesis;
-    p.keep_exploring = keep_exploring;
-    return p;
-  }
+  /// Planner choices that are not thesis parameters: noise_robust_mesh ("mesh": "thesis" | "noise_robust"),
+  /// coverage_estimate ("thesis" | "unseen_loops"), keep_exploring (true | false); threads and seed are the runner's.
+  PlannerSetting planner{};
 };
 
 namespace detail {
-/// The string value of config key `key`, one of `valid`. Throws UsageError naming the key and the valid values.
-[[nodiscard]] inline std::string choice(const nlohmann::json& v, const std::string& key,
-                                        std::initializer_list<std::string_view> valid) {
-  std::string names;
-  for (std::string_view n : valid) names += (names.empty() ? "" : " | ") + std::string(n);
-  if (!v.is_string()) throw UsageError("config key '" + key + "' must be a string (" + names + "), got " + v.dump());
+inline constexpr std::string_view kMeshNames[] = {"thesis", "noise_robust"};             // index = noise_robust_mesh
+inline constexpr std::string_view kCoverageNames[] = {"thesis", "unseen_loops"};         // index = CoverageEstimate
+
+/// Index of the string value of config key `key` in `names`. Throws UsageError naming the key, the value and the
+/// valid names.
+template <std::size_t N>
+[[nodiscard]] std::size_t choice(const nlohmann::json& v, const std::string& key, const std::string_view (&names)[N]) {
+  std::string list;
+  for (std::string_view n : names) list += (list.empty() ? "" : " | ") + std::string(n);
+  if (!v.is_string()) throw UsageError("config key '" + key + "' must be a string (" + list + "), got " + v.dump());
   const std::string s = v.get<std::string>();
-  for (std::string_view n : valid)
-    if (s == n) return s;
-  throw UsageError("config key '" + key + "' must be one of " + names + ", got '" + s + "'");
+  for (std::size_t i = 0; i < N; ++i)
+    if (s == names[i]) return i;
+  throw UsageError("config key '" + key + "' must be one of " + list + ", got '" + s + "'");
 }
 }  // namespace detail
 
@@ -124,9 +119,9 @@ void for_each_parameter(Parameters& p, F&& f) {
   nlohmann::json j = nlohmann::json::object();
   detail::for_each_parameter(s.params, [&](const char* name, auto& field) { j[name] = field; });
   j["sensor"] = s.sensor;
-  j["mesh"] = s.mesh;
-  j["coverage_estimate"] = s.coverage_estimate;
-  j["keep_exploring"] = s.keep_exploring;
+  j["mesh"] = detail::kMeshNames[s.planner.noise_robust_mesh ? 1 : 0];
+  j["coverage_estimate"] = detail::kCoverageNames[static_cast<std::size_t>(s.planner.coverage_estimate)];
+  j["keep_exploring"] = s.planner.keep_exploring;
   return j;
 }
 
@@ -142,23 +137,23 @@ void for_each_parameter(Parameters& p, F&& f) {
   Setup s;
   for (const auto& [key, value] : j.items()) {
     if (key == "sensor") {
-      if (!value.is_string()) throw UsageError(origin + ": config key 'sensor' must be a string");
+      if (!value.is_string()) throw UsageError(origin + ": config key 'sensor' must be a string, got " + value.dump());
       s.sensor = value.get<std::string>();
       (void)sensor_preset(s.sensor);
       continue;
     }
     try {
       if (key == "mesh") {
-        s.mesh = detail::choice(value, key, {"thesis", "noise_robust"});
+        s.planner.noise_robust_mesh = detail::choice(value, key, detail::kMeshNames) == 1;
         continue;
       }
       if (key == "coverage_estimate") {
-        s.coverage_estimate = detail::choice(value, key, {"thesis", "unseen_loops"});
+        s.planner.coverage_estimate = static_cast<CoverageEstimate>(detail::choice(value, key, detail::kCoverageNames));
         continue;
       }
       if (key == "keep_exploring") {
         if (!value.is_boolean()) throw UsageError("config key 'keep_exploring' must be true or false, got " + value.dump());
-        s.keep_exploring = value.get<bool>();
+        s.planner.keep_exploring = value.get<bool>();
         continue;
       }
     } catch (const UsageError& e) {

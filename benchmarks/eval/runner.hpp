@@ -45,7 +45,7 @@ struct RunContext {
   Aabb unknown_area;
   int n_abort = 30;
   double c_obs = 0.0;
-  PlannerSetting setting{};  ///< mesh and ĉ_m form of the config; threads and seed are set per run
+  PlannerSetting setting{};  ///< mesh, ĉ_m form and keep_exploring of the config; threads and seed are set per run
 };
 
 /// Runs method `m`, run index `run` with seed `seed`. Throws what the planner or scanner throw.
@@ -83,7 +83,10 @@ struct RunContext {
     fresh.clear();
     for (std::size_t v = seen_vertices; v < mesh.vertex_count(); ++v)
       fresh.push_back(mesh.position(static_cast<VertexId>(v)));
-    seen_vertices = mesh.vertex_count();  // vertices are only appended and never move
+    // Vertices are only appended. Each is counted once, at its position after the scan that added it: with the
+    // noise-robust mesh a vertex that gets its normal in a later scan is counted at its measured point, not at
+    // its later PCA-plane projection (docs/evaluation.md, c_a and ē).
+    seen_vertices = mesh.vertex_count();
     tracker.add(fresh);
     if (!fresh.empty())
       for (double d : ctx.truth.distance().distances(fresh, 1)) sum_sq += d * d;

@@ -93,7 +93,7 @@ constexpr double kDomeRadius = 0.04;
 
 /// Streams a hemisphere of radius kDomeRadius on z = 0, scanned once from above (12 profiles), into `mesh`: a cap
 /// with one large rim loop.
-void scan_dome(nbs::StreamingMesh& mesh) {
+static void scan_dome(nbs::StreamingMesh& mesh) {
   nbs::test::Sphere dome(Vec3(0, 0, 0), kDomeRadius);
   dome.min_z = 0.0;
   nbs::test::StripeSensor sensor;
@@ -132,6 +132,12 @@ TEST_CASE("estimated coverage from unseen loops: Eq. 4.35 with each loop weighte
   for (const auto& h : loops)
     if (!rim || h.area_m2 > rim->area_m2) rim = &h;
   REQUIRE(rim != nullptr);
+  // find_all_loops ignores h_max: with h_max below the rim's length it still finds every loop, find_holes does not.
+  nbs::Parameters short_holes;
+  short_holes.hole_max_edges = 50;
+  REQUIRE(rim->vertices.size() > 50);
+  CHECK(nbs::find_all_loops(mesh, short_holes).size() == loops.size());
+  CHECK(nbs::find_holes(mesh, short_holes).size() < loops.size());
   const double filled = nbs::filled_area(mesh);
   double all = 0.0;
   for (const auto& h : loops) all += h.area_m2;

@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <limits>
 #include <set>
 #include <string>
 
@@ -212,6 +211,11 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   check_same_plan(a, c);
   CHECK(p3.mesh().vertex_count() == mesh.vertex_count());
   CHECK(p3.mesh().settings().project_vertices);
+  CHECK(p3.mesh().settings().density_depth_m == p3.mesh().settings().normal_radius_m);
+  // It is fixed at construction: the mesh exists.
+  nbs::PlannerSetting other = p3.setting();
+  other.noise_robust_mesh = false;
+  CHECK_THROWS_WITH(p3.set_setting(other), Catch::Contains("noise_robust_mesh cannot change"));
 }
 
 TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[planner][loop]") {

@@ -119,19 +119,25 @@ template <EdgeMesh M>
   return detail::coverage_ratio(mesh, holes, [](const Hole& h) { return h.area_m2; });
 }
 
-/// Share of hole h's Eq. 4.37 fan that `seen(x)` (x: world point, m) calls measured surface: three samples per fan
-/// triangle (c_h, v_{i−1}, v_i), at 1/4, 1/2 and 3/4 of the way from c_h to the midpoint of v_{i−1}v_i. 1 for a
-/// loop without vertices.
-template <EdgeMesh M, class Seen>
-[[nodiscard]] double fan_seen_share(const M& mesh, const Hole& h, Seen&& seen) {
+/// Calls f(x) for the 3·|E_H| samples x (world, m) of hole h's Eq. 4.37 fan: per fan triangle (c_h, v_{i−1}, v_i)
+/// the points 1/4, 1/2 and 3/4 of the way from c_h to the midpoint of v_{i−1}v_i.
+template <EdgeMesh M, class F>
+void for_each_fan_sample(const M& mesh, const Hole& h, F&& f) {
   const std::size_t k = h.vertices.size();
-  if (k == 0) return 1.0;
-  std::size_t hits = 0;
   for (std::size_t i = 0; i < k; ++i) {
     const Vec3 mid = 0.5 * (mesh.position(h.vertices[(i + k - 1) % k]) + mesh.position(h.vertices[i]));
-    for (const double t : {0.25, 0.5, 0.75}) hits += seen(Vec3(h.center + t * (mid - h.center))) ? 1 : 0;
+    for (const double t : {0.25, 0.5, 0.75}) f(Vec3(h.center + t * (mid - h.center)));
   }
-  return static_cast<double>(hits) / static_cast<double>(3 * k);
+}
+
+/// Share of hole h's Eq. 4.37 fan samples (for_each_fan_sample) that `seen(x)` (x: world point, m) calls measured
+/// surface. 1 for a loop without vertices.
+template <EdgeMesh M, class Seen>
+[[nodiscard]] double fan_seen_share(const M& mesh, const Hole& h, Seen&& seen) {
+  if (h.vertices.empty()) return 1.0;
+  std::size_t hits = 0;
+  for_each_fan_sample(mesh, h, [&](const Vec3& x) { hits += seen(x) ? 1 : 0; });
+  return static_cast<double>(hits) / static_cast<double>(3 * h.vertices.size());
 }
 
 /// ĉ_m = A_filled / (A_filled + A_empty) (Eq. 4.35) with A_empty = Σ A_hole · (1 − fan_seen_share) over `loops`,

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <span>
 #include <utility>
@@ -146,7 +145,13 @@ public:
   [[nodiscard]] const Aabb& unknown_area() const { return box_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
   /// Replaces the setting (validated first; throws InvalidArgument, nothing changed).
-  void set_setting(const Setting& s) { setting_ = checked(s, geometry_); }
+  /// Replaces the setting; noise_robust_mesh must stay as built (InvalidArgument otherwise: the mesh exists).
+  void set_setting(const Setting& s) {
+    detail::require(s.noise_robust_mesh == setting_.noise_robust_mesh,
+                    "PlannerSetting.noise_robust_mesh cannot change after construction (the mesh is built), got ",
+                    s.noise_robust_mesh);
+    setting_ = checked(s, geometry_);
+  }
   /// d_s in metres.
   [[nodiscard]] double standoff() const { return setting_.standoff_m > 0.0 ? setting_.standoff_m : geometry_.mid_range_m(); }
 

@@ -124,14 +124,16 @@ struct PlannerSetting {
   /// How ĉ_m (Eq. 4.35) counts A_empty. `thesis` (default): the loops with h_min..h_max edges, unweighted
   /// (estimated_coverage). `unseen_loops` (ours): every closed border loop, each weighted by the share of its Eq. 4.37
   /// fan not yet measured as surface in the voxel space (estimated_coverage_unseen); meant for
-  /// NoiseRobustStreamingMesh. With both, C_H on the bunny stops after 10 scans at c_a 93.6 % (thesis form: 14, and
-  /// with the robust mesh never), but on fandisk and the teapot ĉ_m stays below 0.6 / 0.7 at c_a ≈ 97–99 %
+  /// NoiseRobustStreamingMesh. With both, C_H on the bunny stops after 10 scans at c_a 93.6 % with seed 1 (median
+  /// of 20 runs: 14; thesis form: 14 for seed 1, and with the robust mesh never), but on fandisk and the teapot
+  /// ĉ_m stays below 0.7 in most runs at c_a ≈ 97–99 %
   /// (A_filled is still 1.7–2× the true area, and under-side loops near the pedestal count as unseen): not the
   /// default (docs/evaluation.md).
   CoverageEstimate coverage_estimate = CoverageEstimate::thesis;
   /// Run-time form of the NoiseRobustStreamingMesh policy for planners whose Mesh is StreamingMesh (the runtime
   /// facade, nbs_eval's config "mesh": "noise_robust"): builds it with density_depth_m = R_n and project_vertices.
-  /// Ignored by a NoiseRobustStreamingMesh policy (always robust); InvalidArgument with any other Mesh policy.
+  /// Ignored by Mesh policies derived from StreamingMesh (NoiseRobustStreamingMesh is always robust); InvalidArgument
+  /// with a Mesh policy that is no StreamingMesh. Fixed at construction (set_setting refuses to change it).
   bool noise_robust_mesh = false;
   /// Coarse-to-fine evaluation of S (our addition to Sec. 4.5.3, see CoarseToFine): all candidates are scored with
   /// `sampling` strides × coarse_factor, the refine_top best again with `sampling`. Default {4, 32}: every 16th

@@ -36,9 +36,11 @@ template <class Space, class Sensor>
 }
 
 /// The mesh policy over `box`; with PlannerSetting::noise_robust_mesh a StreamingMesh gets the settings of
-/// NoiseRobustStreamingMesh. Throws InvalidArgument if that flag is set for a Mesh that is no StreamingMesh.
+/// NoiseRobustStreamingMesh (classes derived from StreamingMesh choose their own settings). Throws InvalidArgument
+/// if that flag is set for a Mesh that is no StreamingMesh.
 template <class Mesh>
-[[nodiscard]] std::unique_ptr<Mesh> make_planner_mesh(const Parameters& params, const Aabb& box, bool noise_robust) {
+[[nodiscard]] std::unique_ptr<Mesh> make_planner_mesh(const Parameters& params, const Aabb& box,
+                                                      [[maybe_unused]] bool noise_robust) {
   if constexpr (std::is_same_v<Mesh, StreamingMesh>) {
     if (noise_robust)
       return std::make_unique<Mesh>(NoiseRobustStreamingMesh::robust(StreamingMeshSettings::from(params, box)));
