@@ -1,0 +1,50 @@
+#!/usr/bin/env python3
+"""The issue's checks of the thesis comparison, per mesh, from nbs_eval outputs, as a markdown table.
+
+  python3 benchmarks/eval_checks.py NAME=OUT_DIR [NAME=OUT_DIR ...]
+
+Per mesh (OUT_DIR/summary.json; needs the methods C_H and C_S): C_H's median n_s and notch (Eq. 4.41), the lowest
+median n_s and the methods that have it, C_S's median and notch, whether the two notches are apart (the thesis's
+95 % statement), l_s(C_H) / l_s(C_S) (mean path over the 30 scans) and C_H's mean c_a(30) / c_obs. Standard
+library only.
+"""
+import json
+import sys
+from pathlib import Path
+
+
+def row(name, summary):
+    ch, cs = summary["C_H"], summary["C_S"]
+    low = min(v["median_scans"] for v in summary.values())
+    lows = sorted(k for k, v in summary.items() if v["median_scans"] == low)
+    apart = (ch["median_scans"] + ch["notch"] < cs["median_scans"] - cs["notch"]
+             or cs["median_scans"] + cs["notch"] < ch["median_scans"] - ch["notch"])
+    runs = "/".join(str(r) for r in sorted({v["runs"] for v in summary.values()}))
+    return (f"| {name} | {len(summary)} × {runs} | {ch['median_scans']:.1f} (±{ch['notch']:.2f}) | "
+            f"{low:.1f}: {', '.join(lows)} | {cs['median_scans']:.1f} (±{cs['notch']:.2f}) | "
+            f"{'yes' if apart else 'no'} | {ch['mean_path_length_m'] / cs['mean_path_length_m']:.2f} | "
+            f"{ch['mean_ca_at_30'] / ch['mean_c_obs']:.3f} |")
+
+
+def main(args):
+    if not args or any("=" not in a for a in args):
+        print(__doc__.strip(), file=sys.stderr)
+        return 2
+    rows = []
+    for a in args:
+        name, out = a.split("=", 1)
+        summary = json.loads((Path(out) / "summary.json").read_text())
+        missing = [m for m in ("C_H", "C_S") if m not in summary]
+        if missing:
+            print(f"eval_checks: {out} has no runs of {', '.join(missing)}", file=sys.stderr)
+            return 2
+        rows.append(row(name, summary))
+    print("| mesh | methods × runs | C_H median n_s (notch) | lowest median n_s | C_S median n_s (notch) |"
+          " notches apart | l_s(C_H) / l_s(C_S) | C_H c_a(30) / c_obs |")
+    print("|---|---|---:|---|---:|---|---:|---:|")
+    print("\n".join(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
