@@ -169,12 +169,11 @@ constexpr double kFreeBelow = 0.45;
 /// truth, the mean distance of the samples to the true surface, the share of samples whose nearest true sample is a
 /// non-bottom one not yet covered (really missing surface) and the share whose nearest is a bottom sample.
 template <class Planner>
-void print_loops(const Planner& planner, const nbs::Parameters& params, int top) {
+void print_loops(const Planner& planner, const nbs::Parameters& params, const std::vector<nbs::Hole>& loops, int top) {
   using namespace nbs;
   const auto& mesh = planner.mesh();
   const auto& space = planner.space();
   const auto seen = [&](const Vec3& x) { return space.probability(x) > params.occupied_threshold; };
-  const std::vector<Hole> loops = find_all_loops(mesh, params);
   std::vector<std::pair<double, std::size_t>> order;
   double total = 0.0;
   for (std::size_t i = 0; i < loops.size(); ++i) {
@@ -281,7 +280,8 @@ void print_coverage_terms(const Planner& planner, const nbs::Parameters& params,
     double area = 0.0, area_measured = 0.0;
   } small, large;
   const HoleRescan probe;
-  for (const Hole& h : find_all_loops(mesh, params)) {
+  const std::vector<Hole> loops = find_all_loops(mesh, params);
+  for (const Hole& h : loops) {
     Loops& l = static_cast<int>(h.vertices.size()) <= params.hole_max_edges ? small : large;
     const bool measured = probe.measured(planner.space(), h);
     ++l.n;
@@ -289,7 +289,7 @@ void print_coverage_terms(const Planner& planner, const nbs::Parameters& params,
     l.n_measured += measured ? 1 : 0;
     l.area_measured += measured ? h.area_m2 : 0.0;
   }
-  if (const char* top = std::getenv("NBS_DIAG_LOOPS")) print_loops(planner, params, std::atoi(top));
+  if (const char* top = std::getenv("NBS_DIAG_LOOPS")) print_loops(planner, params, loops, std::atoi(top));
   std::printf("COV %2d c_m %.3f | true %.5f filled %.5f proj %.5f m2 | loops<=h_max %zu %.5f m2 (measured %zu %.5f) |"
               " loops>h_max %zu %.5f m2 (measured %zu %.5f)\n",
               scan, planner.estimated_coverage(), c_a * true_area_m2, filled_area(mesh), proj, small.n, small.area,

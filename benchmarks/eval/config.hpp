@@ -9,9 +9,9 @@
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <charconv>
+#include <cstddef>
 #include <cstdint>
 #include <fstream>
-#include <cstddef>
 #include <sstream>
 #include <stdexcept>
 #include <string>

@@ -144,8 +144,8 @@ public:
   [[nodiscard]] const SensorGeometry& sensor_geometry() const { return geometry_; }
   [[nodiscard]] const Aabb& unknown_area() const { return box_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
-  /// Replaces the setting (validated first; throws InvalidArgument, nothing changed).
-  /// Replaces the setting; noise_robust_mesh must stay as built (InvalidArgument otherwise: the mesh exists).
+  /// Replaces the setting (validated first; throws InvalidArgument, nothing changed). noise_robust_mesh must stay as
+  /// built: the mesh exists.
   void set_setting(const Setting& s) {
     detail::require(s.noise_robust_mesh == setting_.noise_robust_mesh,
                     "PlannerSetting.noise_robust_mesh cannot change after construction (the mesh is built), got ",
