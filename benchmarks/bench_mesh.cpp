@@ -13,6 +13,7 @@
 //                               to check that a speed-up leaves the output bit-identical.
 //  bench_mesh --mesh_prefix=N   streams the first N points of the bunny stream (sphere without nbs::embree) inside
 //                               stream_prefix(), e.g. for valgrind --tool=callgrind --toggle-collect='*stream_prefix*'.
+//  bench_mesh --mesh_prefix_robust=N  the same into a StreamingMesh with the noise-robust settings.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -254,7 +255,7 @@ int hash_streams() {
   return m.face_count();
 }
 
-int run_prefix(std::size_t n) {
+int run_prefix(std::size_t n, bool robust) {
   std::vector<Vec3> pts, los;
 #ifdef NBS_BENCH_MESH_BUNNY
   for (const auto& s : bunny_scans())
@@ -267,7 +268,9 @@ int run_prefix(std::size_t n) {
   pts.assign(s.points.begin(), s.points.begin() + static_cast<std::ptrdiff_t>(std::min(n, s.points.size())));
   los.assign(s.los.begin(), s.los.begin() + static_cast<std::ptrdiff_t>(pts.size()));
 #endif
-  nbs::StreamingMesh m;
+  nbs::StreamingMeshSettings settings;
+  if (robust) settings = nbs::NoiseRobustStreamingMesh::robust(settings);
+  nbs::StreamingMesh m(settings);
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t faces = stream_prefix(m, pts, los);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -282,7 +285,9 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view a(argv[i]);
     if (a == "--mesh_hash") return hash_streams();
-    if (a.starts_with("--mesh_prefix=")) return run_prefix(std::strtoull(argv[i] + 14, nullptr, 10));
+    if (a.starts_with("--mesh_prefix=")) return run_prefix(std::strtoull(argv[i] + 14, nullptr, 10), false);
+    if (a.starts_with("--mesh_prefix_robust="))
+      return run_prefix(std::strtoull(argv[i] + 21, nullptr, 10), true);
   }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();

@@ -271,12 +271,14 @@ private:
       return has_normal(id) ? nrm_[id].dot(dir) < 0.0 : los_[id].cast<double>().dot(dir) > 0.0;
     };
     if (last_close_ < pos_.size() && rejects(last_close_, pos_[last_close_])) return true;
-    const double reach = std::sqrt(r2 + depth * depth);
-    return grid_.any_candidate(p, reach, [&](std::uint32_t id, const Vec3& q) {
+    const auto hit = [&](std::uint32_t id, const Vec3& q) {
       if (!rejects(id, q)) return false;
       last_close_ = id;
       return true;
-    });
+    };
+    if (!(depth > 0.0)) return grid_.any_candidate(p, settings_.reduction_radius_m, hit);
+    // Every rejecting point lies within R_r of the segment p ± depth·dir (the ball around p included).
+    return grid_.any_candidate_near_segment(p, dir, depth, settings_.reduction_radius_m, hit);
   }
   /// First ball of a pending vertex, kept equal to what gather(position, first_ball_radius()) would return: entries
   /// in gather()'s order (ascending cell key, then id, which is insertion order); each new point within the radius is

@@ -1,11 +1,14 @@
 #pragma once
 /// \file
-/// Spatial hash grid of point ids for ball queries. Cells are cubes of edge `cell_m`; the table is open-addressing
-/// (linear probing) keyed by packed integer cell coordinates, a slot holding the key and the index of the cell's list
-/// of points (id and a copy of the position, so a query touches only its cells). With the density limitation (no two
-/// points closer than R_r) a cell holds at most O((cell_m / R_r)^3) points, so a ball query costs O(1) independent of
-/// the number of stored points. Not thread-safe.
+/// Spatial hash grid of point ids for ball queries. Cells are cubes of edge `cell_m`, grouped in blocks of 4×4×4
+/// cells; an open-addressing table (linear probing) keyed by packed integer block coordinates holds, per block, the
+/// index of each cell's list of points (id and a copy of the position, so a query touches only its cells). A query
+/// walks its cells in (x, y, z) order and looks a block up once for its run of cells, so neighbouring cells cost
+/// an array read instead of a hash probe. With the density limitation (no two points closer than R_r) a cell holds
+/// at most O((cell_m / R_r)^3) points, so a ball query costs O(1) independent of the number of stored points.
+/// Not thread-safe.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -17,22 +20,29 @@ namespace nbs::detail {
 
 class SpatialHash {
 public:
-  explicit SpatialHash(double cell_m = 0.003) : cell_m_(cell_m), inv_cell_(1.0 / cell_m) { rehash(1024); }
+  explicit SpatialHash(double cell_m = 0.003) : cell_m_(cell_m), inv_cell_(1.0 / cell_m) { rehash(256); }
 
   [[nodiscard]] double cell_size() const { return cell_m_; }
 
   /// Adds point `id` at `p`.
   void insert(const Vec3& p, std::uint32_t id) {
-    const std::uint64_t key = key_of(cell_of(p));
+    const Eigen::Vector3i c = cell_of(p);
+    const std::uint64_t key = key_of(block_of(c));
     if (2 * (used_ + 1) > slots_.size()) rehash(slots_.size() * 2);
     Slot& slot = slots_[find_slot(key)];
     if (slot.key == kEmpty) {
       slot.key = key;
-      slot.bucket = static_cast<std::uint32_t>(buckets_.size());
-      buckets_.emplace_back();
+      slot.block = static_cast<std::uint32_t>(blocks_.size());
+      blocks_.emplace_back();
+      blocks_.back().fill(0);
       ++used_;
     }
-    buckets_[slot.bucket].push_back({p, id});
+    std::uint32_t& bucket = blocks_[slot.block][local_of(c)];
+    if (bucket == 0) {
+      buckets_.emplace_back();
+      bucket = static_cast<std::uint32_t>(buckets_.size());
+    }
+    buckets_[bucket - 1].push_back({p, id});
   }
 
   /// Key of the cell of `p`; keys grow with the cells' (x, y, z) in lexicographic order.
@@ -56,6 +66,7 @@ public:
     const int nz = hi.z() - lo.z() + 1;
     std::array<double, kSpan> gz2{};
     const bool cached = nz <= kSpan;
+    CellLookup lookup{*this};
     if (cached)
       for (int k = 0; k < nz; ++k) gz2[static_cast<std::size_t>(k)] = square(gap(lo.z() + k, p.z()));
     for (int x = lo.x(); x <= hi.x(); ++x) {
@@ -65,9 +76,9 @@ public:
         if (gxy > r2) continue;
         for (int z = lo.z(); z <= hi.z(); ++z) {
           if (gxy + (cached ? gz2[static_cast<std::size_t>(z - lo.z())] : square(gap(z, p.z()))) > r2) continue;
-          const Slot& slot = slots_[find_slot(key_of(Eigen::Vector3i(x, y, z)))];
-          if (slot.key == kEmpty) continue;
-          for (const Entry& e : buckets_[slot.bucket]) f(e.id, e.p);
+          const std::vector<Entry>* cell = lookup.cell(Eigen::Vector3i(x, y, z));
+          if (cell == nullptr) continue;
+          for (const Entry& e : *cell) f(e.id, e.p);
         }
       }
     }
@@ -78,22 +89,51 @@ public:
   /// probe.
   template <class Pred>
   [[nodiscard]] bool any_candidate(const Vec3& p, double r, Pred&& pred) const {
+    CellLookup lookup{*this};
     const Eigen::Vector3i c = cell_of(p);
-    if (any_in_cell(c, pred)) return true;
+    if (any_in(lookup.cell(c), pred)) return true;
     const Eigen::Vector3i lo = cell_of(p - Vec3::Constant(r));
     const Eigen::Vector3i hi = cell_of(p + Vec3::Constant(r));
     for (int x = lo.x(); x <= hi.x(); ++x)
       for (int y = lo.y(); y <= hi.y(); ++y)
         for (int z = lo.z(); z <= hi.z(); ++z) {
           const Eigen::Vector3i k(x, y, z);
-          if (k != c && any_in_cell(k, pred)) return true;
+          if (k != c && any_in(lookup.cell(k), pred)) return true;
+        }
+    return false;
+  }
+
+  /// True if `pred(id, position)` holds for some stored point within `r` of the segment from `p - h·dir` to
+  /// `p + h·dir` (`dir` unit, h ≥ 0) — `pred` may be called for farther points too and decides. The cell of `p` is
+  /// probed first and the search stops at the first hit. Only cells whose centre lies within r + half the cell
+  /// diagonal of the segment are probed (a thin cylinder touches a few cells of its bounding cube).
+  template <class Pred>
+  [[nodiscard]] bool any_candidate_near_segment(const Vec3& p, const Vec3& dir, double h, double r,
+                                                Pred&& pred) const {
+    CellLookup lookup{*this};
+    const Eigen::Vector3i c = cell_of(p);
+    if (any_in(lookup.cell(c), pred)) return true;
+    const Vec3 ext = dir.cwiseAbs() * h + Vec3::Constant(r);
+    const Eigen::Vector3i lo = cell_of(p - ext);
+    const Eigen::Vector3i hi = cell_of(p + ext);
+    const double reach = r + 0.5 * std::sqrt(3.0) * cell_m_ * (1.0 + 1e-6), reach2 = reach * reach;
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) {
+          const Eigen::Vector3i k(x, y, z);
+          if (k == c) continue;
+          const Vec3 d = (k.cast<double>() + Vec3::Constant(0.5)) * cell_m_ - p;
+          const double t = std::clamp(d.dot(dir), -h, h);
+          if ((d - t * dir).squaredNorm() > reach2) continue;
+          if (any_in(lookup.cell(k), pred)) return true;
         }
     return false;
   }
 
   /// Heap bytes used by the table and the buckets (approximate: capacity-based).
   [[nodiscard]] std::size_t memory_bytes() const {
-    std::size_t b = slots_.capacity() * sizeof(Slot) + buckets_.capacity() * sizeof(std::vector<Entry>);
+    std::size_t b = slots_.capacity() * sizeof(Slot) + blocks_.capacity() * sizeof(Block) +
+                    buckets_.capacity() * sizeof(std::vector<Entry>);
     for (const auto& v : buckets_) b += v.capacity() * sizeof(Entry);
     return b;
   }
@@ -102,23 +142,50 @@ private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
   struct Slot {
     std::uint64_t key = kEmpty;
-    std::uint32_t bucket = 0;
+    std::uint32_t block = 0;
   };
   /// A stored point.
   struct Entry {
     Vec3 p;
     std::uint32_t id;
   };
+  /// Per cell of a 4×4×4 block: 1 + index of its list in buckets_, 0 = no point.
+  using Block = std::array<std::uint32_t, 64>;
+
+  /// Cell lookups of one query: remembers the last block looked up (a query's cells come in runs per block).
+  struct CellLookup {
+    const SpatialHash& h;
+    std::uint64_t key = kEmpty;
+    const Block* block = nullptr;
+    /// The points of cell c, or nullptr if it has none.
+    [[nodiscard]] const std::vector<Entry>* cell(const Eigen::Vector3i& c) {
+      const std::uint64_t k = key_of(block_of(c));
+      if (k != key) {
+        key = k;
+        const Slot& slot = h.slots_[h.find_slot(k)];
+        block = slot.key == kEmpty ? nullptr : &h.blocks_[slot.block];
+      }
+      if (block == nullptr) return nullptr;
+      const std::uint32_t b = (*block)[local_of(c)];
+      return b == 0 ? nullptr : &h.buckets_[b - 1];
+    }
+  };
 
   [[nodiscard]] static double square(double v) { return v * v; }
 
   template <class Pred>
-  [[nodiscard]] bool any_in_cell(const Eigen::Vector3i& c, Pred& pred) const {
-    const Slot& slot = slots_[find_slot(key_of(c))];
-    if (slot.key == kEmpty) return false;
-    for (const Entry& e : buckets_[slot.bucket])
+  [[nodiscard]] static bool any_in(const std::vector<Entry>* cell, Pred& pred) {
+    if (cell == nullptr) return false;
+    for (const Entry& e : *cell)
       if (pred(e.id, e.p)) return true;
     return false;
+  }
+  /// Block of cell c (floor division by 4 per axis) and c's index in it.
+  [[nodiscard]] static Eigen::Vector3i block_of(const Eigen::Vector3i& c) {
+    return {c.x() >> 2, c.y() >> 2, c.z() >> 2};
+  }
+  [[nodiscard]] static std::size_t local_of(const Eigen::Vector3i& c) {
+    return static_cast<std::size_t>((c.x() & 3) | ((c.y() & 3) << 2) | ((c.z() & 3) << 4));
   }
 
   [[nodiscard]] Eigen::Vector3i cell_of(const Vec3& p) const {
@@ -156,8 +223,9 @@ private:
 
   double cell_m_;
   double inv_cell_;
-  std::vector<Slot> slots_;
-  std::vector<std::vector<Entry>> buckets_;
+  std::vector<Slot> slots_;                  ///< block key → index in blocks_
+  std::vector<Block> blocks_;
+  std::vector<std::vector<Entry>> buckets_;  ///< the points of each non-empty cell
   std::size_t used_ = 0;
 };
 
