@@ -4,8 +4,9 @@
 ///
 /// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
 /// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
-/// "scancontrol_2700_100"), "mesh": "thesis" | "noise_robust" and "coverage_estimate": "thesis" | "unseen_loops"
-/// and "keep_exploring": true | false (PlannerSetting::noise_robust_mesh, ::coverage_estimate, ::keep_exploring).
+/// "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_loops"
+/// (default) | "thesis" and "keep_exploring": true (default) | false (PlannerSetting::noise_robust_mesh,
+/// ::coverage_estimate, ::keep_exploring; the defaults are PlannerSetting's).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <charconv>
@@ -225,8 +226,8 @@ inline constexpr std::string_view kUsage =
     "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
     "  --config FILE     JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp | scancontrol_2700_100,\n"
-    "                    \"mesh\": thesis | noise_robust, \"coverage_estimate\": thesis | unseen_loops,\n"
-    "                    \"keep_exploring\": true | false\n"
+    "                    \"mesh\": noise_robust | thesis, \"coverage_estimate\": unseen_loops | thesis,\n"
+    "                    \"keep_exploring\": true | false (defaults first; docs/eval/configs/thesis.json: the thesis's)\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"

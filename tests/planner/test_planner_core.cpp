@@ -203,9 +203,16 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
     moved += mesh.has_normal(v) && mesh.position(v) != mesh.stored_position(v) ? 1 : 0;
   CHECK(moved > mesh.vertex_count() / 2);
 
-  // PlannerSetting::noise_robust_mesh gives a StreamingMesh policy the same mesh: the same plan, step for step.
+  // PlannerSetting::noise_robust_mesh (the default) gives a StreamingMesh policy the same mesh: the same plan, step
+  // for step; false gives the thesis's stream as written.
   nbs::PlannerSetting s3 = s1;
-  s3.noise_robust_mesh = true;
+  CHECK(s3.noise_robust_mesh);
+  nbs::PlannerSetting thesis_setting = s1;
+  thesis_setting.noise_robust_mesh = false;
+  const nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh> thesis({}, light_lsp(), sphere_box(),
+                                                                                    thesis_setting);
+  CHECK_FALSE(thesis.mesh().settings().project_vertices);
+  CHECK(thesis.mesh().settings().density_depth_m == 0.0);
   nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh> p3({}, light_lsp(), sphere_box(), s3);
   const auto c = nbs::run_simulation(p3, sphere, sim);
   check_same_plan(a, c);
@@ -227,6 +234,8 @@ TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[p
   sim.max_scans = 40;  // larger than n_abort: the planner's criterion must stop the loop
   nbs::PlannerSetting thesis = setting(2);
   thesis.keep_exploring = false;  // Sec. 4.4 as written: Boundary Search candidates are discarded at the switch
+  thesis.noise_robust_mesh = false;  // and the thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4)
+  thesis.coverage_estimate = nbs::CoverageEstimate::thesis;
   nbs::NbsPlanner<> p(params, light_lsp(), sphere_box(), thesis);
   std::vector<int> seen;
   const auto res = nbs::run_simulation(p, sphere, sim, [&](const nbs::ScanRecord& r) { seen.push_back(r.scan); });

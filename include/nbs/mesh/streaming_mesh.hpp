@@ -52,7 +52,8 @@ struct StreamingMeshSettings {
   /// Measured with both options (density_depth_m = R_n) on a 60 mm plane at σ = 1 mm, 3 scans: triangles projected
   /// on the plane cover 1.03× its area (3–4× without) and the vertex RMS error is 0.43 mm; on the bunny (C_H, 30
   /// scans) the vertex RMS error drops from 1.07 to 0.66 mm with half the vertices. Off here (the thesis's stream as
-  /// written); on in NoiseRobustStreamingMesh (with PlannerSetting::coverage_estimate = unseen_loops in a planner).
+  /// written); on in NoiseRobustStreamingMesh and in a planner's StreamingMesh by default (PlannerSetting::
+  /// noise_robust_mesh, with coverage_estimate = unseen_loops).
   bool project_vertices = false;
 
   [[nodiscard]] static StreamingMeshSettings from(const Parameters& p, const Aabb& unknown_area = {}) {
@@ -421,8 +422,8 @@ private:
 };
 
 /// StreamingMesh with both noise-robust options on (density_depth_m = R_n, project_vertices): a Mesh policy for
-/// NbsPlanner, which builds its mesh from (Parameters, unknown-area box). See StreamingMeshSettings for what they do
-/// and why they are not the default.
+/// NbsPlanner, which builds its mesh from (Parameters, unknown-area box). See StreamingMeshSettings for what they do;
+/// NbsPlanner's default (StreamingMesh with PlannerSetting::noise_robust_mesh) builds the same mesh.
 class NoiseRobustStreamingMesh : public StreamingMesh {
 public:
   explicit NoiseRobustStreamingMesh(const Parameters& p = {}, const Aabb& unknown_area = {})

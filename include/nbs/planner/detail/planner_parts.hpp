@@ -36,16 +36,14 @@ template <class Space, class Sensor>
 }
 
 /// The mesh policy over `box`; with PlannerSetting::noise_robust_mesh a StreamingMesh gets the settings of
-/// NoiseRobustStreamingMesh (classes derived from StreamingMesh choose their own settings). Throws InvalidArgument
-/// if that flag is set for a Mesh that is no StreamingMesh.
+/// NoiseRobustStreamingMesh, without it the thesis's. Other Mesh policies (derived from StreamingMesh or not) are
+/// built from (Parameters, box) and choose their own settings.
 template <class Mesh>
 [[nodiscard]] std::unique_ptr<Mesh> make_planner_mesh(const Parameters& params, const Aabb& box,
                                                       [[maybe_unused]] bool noise_robust) {
   if constexpr (std::is_same_v<Mesh, StreamingMesh>) {
     if (noise_robust)
       return std::make_unique<Mesh>(NoiseRobustStreamingMesh::robust(StreamingMeshSettings::from(params, box)));
-  } else if constexpr (!std::is_base_of_v<StreamingMesh, Mesh>) {
-    require(!noise_robust, "PlannerSetting.noise_robust_mesh needs a StreamingMesh mesh policy");
   }
   return std::make_unique<Mesh>(params, box);
 }
