@@ -278,6 +278,10 @@ int run_prefix(std::size_t n, bool robust) {
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%zu points, %zu vertices, %zu faces, %.0f points/s, hash %016llx\n", pts.size(), m.vertex_count(),
               faces, static_cast<double>(pts.size()) / dt, static_cast<unsigned long long>(mesh_hash(m)));
+  const nbs::StreamingStats& st = m.stats();
+  std::printf("stats: too_close %llu, stored %llu, meshed %llu, normal failures %llu\n",
+              static_cast<unsigned long long>(st.too_close), static_cast<unsigned long long>(st.stored),
+              static_cast<unsigned long long>(st.meshed), static_cast<unsigned long long>(st.normal_failures));
   return 0;
 }
 

@@ -544,7 +544,9 @@ inline bool StreamingMesh::estimate(VertexId v) {
 
 inline void StreamingMesh::triangulate(VertexId v) {
   // The 2·max_fan_neighbours nearest meshed points of the R_m ball. ball_ holds the first ball (the R_m ball's points
-  // within min(R_n, R_m), in the same order); if it has fewer meshed points than needed, the R_m ball is gathered.
+  // within min(R_n, R_m), in the same order); if it has fewer meshed points than needed, the R_m ball is gathered —
+  // unless the first ball already holds max_fan_neighbours points the fan takes (LocalTriangulator::fan_neighbour):
+  // the fan takes the nearest such points, and every point of the wider ball lies farther.
   const std::size_t k_max = 2 * static_cast<std::size_t>(tri_settings_.max_fan_neighbours);
   const double rm2 = settings_.mesh_radius_m * settings_.mesh_radius_m;
   auto select = [&] {
@@ -553,7 +555,13 @@ inline void StreamingMesh::triangulate(VertexId v) {
       if (e.first <= rm2 && has_normal(e.second)) ball2_.push_back(e);
   };
   select();
-  if (ball2_.size() < k_max && settings_.mesh_radius_m > settings_.normal_radius_m) {
+  const auto enough_fan_neighbours = [&] {
+    int taken = 0;
+    for (const auto& e : ball2_)
+      if (tri_.fan_neighbour(v, e.second, tri_settings_) && ++taken >= tri_settings_.max_fan_neighbours) return true;
+    return false;
+  };
+  if (ball2_.size() < k_max && settings_.mesh_radius_m > settings_.normal_radius_m && !enough_fan_neighbours()) {
     gather(pos_[v], settings_.mesh_radius_m, v, ball_);
     select();
   }

@@ -68,9 +68,7 @@ public:
     local_.clear();
     for (VertexId q : neighbours) {
       if (static_cast<int>(local_.size()) >= s.max_fan_neighbours) break;
-      const Vec3 d = pos_[q] - pos_[v];
-      if (nrm_[q].dot(n_) < s.min_normal_dot || std::abs(d.dot(n_)) > 0.5 * d.norm()) continue;
-      local_.push_back(q);
+      if (fan_neighbour(v, q, s)) local_.push_back(q);
     }
     if (local_.empty()) return 0;
     local_p2_.clear();
@@ -80,6 +78,13 @@ public:
     legalize();
     close_gaps();
     return touched_;
+  }
+
+  /// True if insert(v, ...) would take the meshed vertex q into v's fan patch (the first max_fan_neighbours such
+  /// neighbours are taken): normals within acos(min_normal_dot), q within 60° of v's tangent plane.
+  [[nodiscard]] bool fan_neighbour(VertexId v, VertexId q, const TriangulationSettings& s) const {
+    const Vec3 d = pos_[q] - pos_[v];
+    return !(nrm_[q].dot(nrm_[v]) < s.min_normal_dot || std::abs(d.dot(nrm_[v])) > 0.5 * d.norm());
   }
 
   /// Heap bytes of the per-vertex marks and border memo (20 B per vertex) and the face marks (4 B per face); the other
