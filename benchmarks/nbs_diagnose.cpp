@@ -7,8 +7,9 @@
 // generated candidates). A research tool, not part of the headline benchmarks.
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
-//                     [--sampling P,R] [--threads N] [--hmax N] [--robust-mesh]
-// --robust-mesh uses the noise-robust mesh (PlannerSetting::noise_robust_mesh) and the unseen-loop ĉ_m (search H only).
+//                     [--sampling P,R] [--threads N] [--hmax N] [--thesis-mesh]
+// The planner's defaults: noise-robust mesh, unseen-loop ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
+// (PlannerSetting::noise_robust_mesh = false, coverage_estimate = thesis).
 // Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
@@ -45,7 +46,7 @@ struct Options {
   int scans = 12;
   char search = 'H';
   bool oracle = false;
-  bool robust_mesh = false;  // NoiseRobustStreamingMesh instead of StreamingMesh
+  bool thesis_mesh = false;  // the thesis's mesh and ĉ_m instead of the planner's defaults
   std::string selection = "C";
   nbs::RaySampling sampling{4, 4};
   unsigned threads = 2;
@@ -324,9 +325,9 @@ int run(const Options& opt) {
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
-  if (opt.robust_mesh) {
-    ps.noise_robust_mesh = true;
-    ps.coverage_estimate = CoverageEstimate::unseen_loops;
+  if (opt.thesis_mesh) {
+    ps.noise_robust_mesh = false;
+    ps.coverage_estimate = CoverageEstimate::thesis;
   }
   NbsPlanner<ProbabilisticVoxelSpace<>, Mesh, Search, DiagnosticUtility, MaxScansReached> planner(
       params, presets::dlr_lsp(), unknown, ps);
@@ -393,7 +394,7 @@ int main(int argc, char** argv) {
     else if (a == "--search") opt.search = next().at(0);
     else if (a == "--oracle") opt.oracle = true;
     else if (a == "--hmax") opt.hole_max_edges = std::stoi(next());
-    else if (a == "--robust-mesh") opt.robust_mesh = true;
+    else if (a == "--thesis-mesh") opt.thesis_mesh = true;
     else if (a == "--selection") opt.selection = next();
     else if (a == "--threads") opt.threads = static_cast<unsigned>(std::stoul(next()));
     else if (a == "--sampling") {
@@ -402,11 +403,11 @@ int main(int argc, char** argv) {
       opt.sampling = {std::stoul(s.substr(0, comma)), std::stoul(s.substr(comma + 1))};
     } else {
       std::fprintf(stderr, "usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] "
-                           "[--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG] [--sampling P,R] [--threads N]\n");
+                           "[--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG] [--sampling P,R] [--threads N] "
+                           "[--hmax N] [--thesis-mesh]\n");
       return a == "--help" ? 0 : 2;
     }
   }
-  if (opt.robust_mesh) return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);  // PlannerSetting::noise_robust_mesh
   if (opt.search == 'S') return run<nbs::SphereSpace, nbs::StreamingMesh>(opt);
   if (opt.search == 'B') return run<nbs::BoundarySpace, nbs::StreamingMesh>(opt);
   return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);

@@ -4,8 +4,8 @@
 ///
 /// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
 /// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
-/// "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_loops"
-/// (default) | "thesis" and "keep_exploring": true (default) | false (PlannerSetting::noise_robust_mesh,
+/// "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
+/// (default) | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (PlannerSetting::noise_robust_mesh,
 /// ::coverage_estimate, ::keep_exploring; the defaults are PlannerSetting's).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
@@ -38,13 +38,14 @@ struct Setup {
   Parameters params{};
   std::string sensor = "dlr_lsp";
   /// Planner choices that are not thesis parameters: noise_robust_mesh ("mesh": "thesis" | "noise_robust"),
-  /// coverage_estimate ("thesis" | "unseen_loops"), keep_exploring (true | false); threads and seed are the runner's.
+  /// coverage_estimate ("unseen_open" | "unseen_loops" | "thesis"), keep_exploring (true | false); threads and seed
+  /// are the runner's.
   PlannerSetting planner{};
 };
 
 namespace detail {
 inline constexpr std::string_view kMeshNames[] = {"thesis", "noise_robust"};             // index = noise_robust_mesh
-inline constexpr std::string_view kCoverageNames[] = {"thesis", "unseen_loops"};         // index = CoverageEstimate
+inline constexpr std::string_view kCoverageNames[] = {"thesis", "unseen_loops", "unseen_open"};  // = CoverageEstimate
 
 /// Index of the string value of config key `key` in `names`. Throws UsageError naming the key, the value and the
 /// valid names.
@@ -226,7 +227,7 @@ inline constexpr std::string_view kUsage =
     "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
     "  --config FILE     JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp | scancontrol_2700_100,\n"
-    "                    \"mesh\": noise_robust | thesis, \"coverage_estimate\": unseen_loops | thesis,\n"
+    "                    \"mesh\": noise_robust | thesis, \"coverage_estimate\": unseen_open | unseen_loops | thesis,\n"
     "                    \"keep_exploring\": true | false (defaults first; docs/eval/configs/thesis.json: the thesis's)\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"

@@ -183,7 +183,7 @@ TEST_CASE("run record JSON round trip", "[eval]") {
 TEST_CASE("config file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {
   const nbs::eval::Setup d = nbs::eval::parse_setup("{}", "cfg");  // the planner's defaults
   CHECK(d.planner.noise_robust_mesh);
-  CHECK(d.planner.coverage_estimate == nbs::CoverageEstimate::unseen_loops);
+  CHECK(d.planner.coverage_estimate == nbs::CoverageEstimate::unseen_open);
   CHECK(d.planner.keep_exploring);
   const nbs::eval::Setup r = nbs::eval::parse_setup(
       R"({"mesh": "thesis", "coverage_estimate": "thesis", "keep_exploring": false})", "cfg");
@@ -196,7 +196,9 @@ TEST_CASE("config file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK(nbs::eval::setup_json(r)["coverage_estimate"] == "thesis");
   CHECK(nbs::eval::setup_json(r)["keep_exploring"] == false);
   CHECK(nbs::eval::setup_json(d)["mesh"] == "noise_robust");
-  CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "unseen_loops");
+  CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "unseen_open");
+  CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "unseen_loops"})", "cfg").planner.coverage_estimate ==
+        nbs::CoverageEstimate::unseen_loops);
   CHECK(nbs::eval::setup_json(d)["keep_exploring"] == true);
   const nbs::eval::Setup back = nbs::eval::parse_setup(nbs::eval::setup_json(r).dump(), "cfg");
   CHECK_FALSE(back.planner.noise_robust_mesh);

@@ -219,6 +219,21 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   CHECK(p3.mesh().vertex_count() == mesh.vertex_count());
   CHECK(p3.mesh().settings().project_vertices);
   CHECK(p3.mesh().settings().density_depth_m == p3.mesh().settings().normal_radius_m);
+  // The default ĉ_m (unseen_open) also calls fan samples walled in by measured surface seen: recomputed from the
+  // final models, and at least the unseen_loops value of the same models.
+  nbs::PlannerSetting s4 = s1;
+  s4.coverage_estimate = nbs::CoverageEstimate::unseen_open;
+  CHECK(nbs::PlannerSetting{}.coverage_estimate == nbs::CoverageEstimate::unseen_open);
+  Robust p4({}, light_lsp(), sphere_box(), s4);
+  (void)nbs::run_simulation(p4, sphere, sim);
+  const auto loops4 = nbs::find_all_loops(p4.mesh(), params);
+  const auto seen4 = [&](const Vec3& x) { return p4.space().probability(x) > params.occupied_threshold; };
+  const double reach = (sphere_box().max - sphere_box().min).norm();
+  const auto open4 = [&](const Vec3& x) { return seen4(x) || nbs::enclosed_by_surface(p4.space(), x, reach); };
+  const double c_open = std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, open4), 0.0, 1.0);
+  CHECK(p4.estimated_coverage() == c_open);
+  CHECK(c_open >= std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, seen4), 0.0, 1.0));
+
   // It is fixed at construction: the mesh exists.
   nbs::PlannerSetting other = p3.setting();
   other.noise_robust_mesh = false;

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "nbs/candidates/enclosure.hpp"
 #include "nbs/planner/detail/components.hpp"
 #include "nbs/planner/detail/planner_parts.hpp"
 #include "nbs/planner/planner_types.hpp"
@@ -215,7 +216,12 @@ IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& 
       const std::vector<Hole> loops = find_all_loops(*mesh_, params_);
       r.holes = static_cast<std::size_t>(std::ranges::count_if(
           loops, [&](const Hole& h) { return static_cast<int>(h.vertices.size()) <= params_.hole_max_edges; }));
-      const auto seen = [&](const Vec3& x) { return space_->probability(x) > params_.occupied_threshold; };
+      const double reach = (box_.max - box_.min).norm();  // every ray of the enclosure test leaves the box
+      const bool open_only = setting_.coverage_estimate == CoverageEstimate::unseen_open;
+      const auto seen = [&](const Vec3& x) {
+        return space_->probability(x) > params_.occupied_threshold ||
+               (open_only && enclosed_by_surface(*space_, x, reach));
+      };
       coverage_ = std::clamp(nbs::estimated_coverage_unseen(*mesh_, loops, seen), 0.0, 1.0);
     }
     density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
