@@ -16,6 +16,13 @@ using nbs::test::down_at;
 namespace {
 const double kCa = nbs::Parameters{}.completeness_radius_m;  // r of c_a (3 mm)
 
+/// The thesis's settings (a bare StreamingMesh) or the noise-robust ones (the planner's default), for the tests that
+/// both must pass.
+nbs::StreamingMeshSettings settings_for(bool noise_robust) {
+  nbs::StreamingMeshSettings s;
+  return noise_robust ? nbs::NoiseRobustStreamingMesh::robust(s) : s;
+}
+
 void require_consistent(const nbs::StreamingMesh& mesh) {
   const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
   INFO(rep.problems);
@@ -76,13 +83,15 @@ TEST_CASE("plane under range noise larger than R_r: with density_depth_m and pro
 }
 
 TEST_CASE("sphere, cube, cylinder: consistent, normals, coverage", "[mesh]") {
+  const bool robust = GENERATE(false, true);
+  INFO("noise-robust settings: " << robust);
   nbs::test::StripeSensor sensor;
   sensor.fov_rad = 0.6;
   sensor.rays = 400;
   SECTION("sphere") {
     nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.04);
     const auto start = down_at(0, 0.05, 0.2);
-    nbs::StreamingMesh mesh;
+    nbs::StreamingMesh mesh(settings_for(robust));
     mesh.integrate(nbs::test::scan_path(sphere, start, 0.1, sensor, 2));
     require_consistent(mesh);
     CHECK(nbs::test::normal_agreement(mesh, sphere, 10.0 * M_PI / 180.0, [](const Vec3&) { return false; }) >= 0.98);
@@ -96,7 +105,7 @@ TEST_CASE("sphere, cube, cylinder: consistent, normals, coverage", "[mesh]") {
     const Vec3 z = Vec3(-1, 0, -1).normalized();  // looks at the +x face and the top
     // right-handed sensor frame: x = y × z
     const auto vp = nbs::Viewpoint::from_axes(Vec3(0, -1, 0).cross(z), Vec3(0, -1, 0), z, Vec3(0.15, 0.05, 0.2));
-    nbs::StreamingMesh mesh;
+    nbs::StreamingMesh mesh(settings_for(robust));
     mesh.integrate(nbs::test::scan_path(box, vp, 0.1, sensor, 3));
     require_consistent(mesh);
     auto near_edge = [](const Vec3& p) {
@@ -112,7 +121,7 @@ TEST_CASE("sphere, cube, cylinder: consistent, normals, coverage", "[mesh]") {
     nbs::test::Cylinder cyl(0, 0, 0.03, 0.0, 0.08);
     const Vec3 z(-1, 0, 0);
     const auto vp = nbs::Viewpoint::from_axes(Vec3(0, 0, 1).cross(z), Vec3(0, 0, 1), z, Vec3(0.2, 0, 0.0));  // x = y × z
-    nbs::StreamingMesh mesh;
+    nbs::StreamingMesh mesh(settings_for(robust));
     mesh.integrate(nbs::test::scan_path(cyl, vp, 0.08, sensor, 4));
     require_consistent(mesh);
     CHECK(nbs::test::normal_agreement(mesh, cyl, 10.0 * M_PI / 180.0, [](const Vec3&) { return false; }) >= 0.98);
@@ -123,9 +132,11 @@ TEST_CASE("sphere, cube, cylinder: consistent, normals, coverage", "[mesh]") {
 }
 
 TEST_CASE("rescanning adds no vertex closer than R_r and keeps the mesh consistent", "[mesh]") {
+  const bool robust = GENERATE(false, true);
+  INFO("noise-robust settings: " << robust);
   nbs::test::PlanePatch plane(0.02, 0.02);
   const nbs::test::StripeSensor sensor;
-  nbs::StreamingMesh mesh;
+  nbs::StreamingMesh mesh(settings_for(robust));
   mesh.integrate(nbs::test::scan_path(plane, down_at(0, 0.03, 0.15), 0.06, sensor, 1));
   const std::size_t first = mesh.vertex_count();
   mesh.integrate(nbs::test::scan_path(plane, down_at(0.001, 0.0305, 0.14), 0.06, sensor, 2));
@@ -156,9 +167,11 @@ TEST_CASE("border edges read off the per-face masks equal the faces' own border"
 }
 
 TEST_CASE("the result does not depend on how the stream is split into scans", "[mesh]") {
+  const bool robust = GENERATE(false, true);
+  INFO("noise-robust settings: " << robust);
   nbs::test::Sphere sphere(Vec3(0, 0, 0), 0.03);
   const auto scan = nbs::test::scan_path(sphere, down_at(0, 0.03, 0.15), 0.06, nbs::test::StripeSensor{}, 5);
-  nbs::StreamingMesh whole, parts;
+  nbs::StreamingMesh whole(settings_for(robust)), parts(settings_for(robust));
   whole.integrate(scan);
   for (std::size_t lo : {std::size_t{0}, scan.size() / 3, 2 * scan.size() / 3}) {
     nbs::Scan part;
@@ -212,15 +225,19 @@ TEST_CASE("bad input is skipped, counted, and leaves the mesh consistent", "[mes
   nbs::StreamingMesh boxed(nbs::Parameters{}, box);
   CHECK(boxed.insert(Vec3(0.02, 0, 0), down) == nbs::InsertResult::outside);
   CHECK(boxed.stats().outside == 1);
-  // Mixed garbage inside a real scan stream.
+  // Mixed garbage inside a real scan stream, with either settings.
   nbs::test::PlanePatch plane(0.01, 0.01);
   auto scan = nbs::test::scan_path(plane, down_at(0, 0.015, 0.15), 0.03, nbs::test::StripeSensor{}, 6);
   for (std::size_t i = 0; i < scan.size(); i += 97) scan.points[i] = Vec3(nan, 0, 0);
   for (std::size_t i = 5; i < scan.size(); i += 89) scan.points[i] = scan.points[i - 1];
-  nbs::StreamingMesh noisy;
-  noisy.integrate(scan);
-  CHECK(noisy.stats().invalid > 0);
-  require_consistent(noisy);
+  for (const bool robust : {false, true}) {
+    INFO("noise-robust settings: " << robust);
+    nbs::StreamingMesh noisy(settings_for(robust));
+    noisy.integrate(scan);
+    CHECK(noisy.stats().invalid > 0);
+    CHECK(noisy.face_count() > 0);
+    require_consistent(noisy);
+  }
   require_consistent(mesh);
 }
 
