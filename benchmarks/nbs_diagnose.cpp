@@ -8,8 +8,8 @@
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
 //                     [--sampling P,R] [--threads N] [--hmax N] [--thesis-mesh]
-// The planner's defaults: noise-robust mesh, unseen-loop ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
-// (PlannerSetting::noise_robust_mesh = false, coverage_estimate = thesis).
+// The planner's defaults: noise-robust mesh, unseen_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
+// (PlannerSetting::thesis_mesh).
 // Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
@@ -174,7 +174,7 @@ void print_loops(const Planner& planner, const nbs::Parameters& params, const st
   using namespace nbs;
   const auto& mesh = planner.mesh();
   const auto& space = planner.space();
-  const auto seen = [&](const Vec3& x) { return space.probability(x) > params.occupied_threshold; };
+  const auto seen = planner.coverage_seen();  // the unseen share as the planner's ĉ_m form counts it
   std::vector<std::pair<double, std::size_t>> order;
   double total = 0.0;
   for (std::size_t i = 0; i < loops.size(); ++i) {
@@ -325,10 +325,7 @@ int run(const Options& opt) {
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
-  if (opt.thesis_mesh) {
-    ps.noise_robust_mesh = false;
-    ps.coverage_estimate = CoverageEstimate::thesis;
-  }
+  if (opt.thesis_mesh) ps = PlannerSetting::thesis_mesh(ps);
   NbsPlanner<ProbabilisticVoxelSpace<>, Mesh, Search, DiagnosticUtility, MaxScansReached> planner(
       params, presets::dlr_lsp(), unknown, ps);
   planner.termination = MaxScansReached(opt.scans);

@@ -41,7 +41,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: nbs_model [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--method CODE] [--scans N] [--threads N]\n"
-    "                 [--out DIR] [--no-images] [--initial-only]\n"
+    "                 [--out DIR] [--no-images] [--initial-only] [--thesis-mesh]\n"
     "  --mesh PATH     ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)\n"
     "  --up AXIS       axis of the mesh file that points up (default y, as in the bunny OBJ)\n"
     "  --size M        largest extent of the object after normalisation, metres, > 0 (default 0.16)\n"
@@ -53,6 +53,8 @@ constexpr const char* kUsage =
     "  --out DIR       output directory, created if missing (default out)\n"
     "  --no-images     do not write the PNG pictures\n"
     "  --initial-only  no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply\n"
+    "  --thesis-mesh   the thesis's mesh and estimated coverage (PlannerSetting::thesis_mesh) instead of the\n"
+    "                  noise-robust mesh and the unseen_open estimate\n"
     "The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
     "DIR/view_NN.png, DIR/final.png and DIR/report.json.\n";
 
@@ -67,6 +69,7 @@ struct Options {
   std::string out = "out";
   bool images = true;
   bool initial_only = false;
+  bool thesis_mesh = false;
 };
 
 struct UsageError {
@@ -112,6 +115,10 @@ std::optional<Options> parse(int argc, char** argv) {
     }
     if (arg == "--initial-only") {
       o.initial_only = true;
+      continue;
+    }
+    if (arg == "--thesis-mesh") {
+      o.thesis_mesh = true;
       continue;
     }
     if (arg.rfind("--", 0) != 0) throw UsageError{"unexpected argument '" + arg + "'"};
@@ -319,7 +326,7 @@ int run(const Options& opt) {
   Aabb unknown = box;
   unknown.min -= Vec3(0.01, 0.01, 0.0);
   unknown.max += Vec3(0.01, 0.01, 0.01);
-  PlannerSetting ps;
+  PlannerSetting ps = opt.thesis_mesh ? PlannerSetting::thesis_mesh() : PlannerSetting{};
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   RuntimePlanner planner(opt.method, params, lsp, unknown, ps);

@@ -3,7 +3,9 @@
 // (the test looks up and sideways only: below is the support); a point outside is free.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 
 #include "nbs/candidates/enclosure.hpp"

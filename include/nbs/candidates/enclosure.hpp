@@ -1,9 +1,10 @@
 #pragma once
 /// \file
-/// Enclosure test for the unseen-loop ĉ_m (ours, PlannerSetting::coverage_estimate = unseen_loops): is a point
-/// walled in by measured surface, so that no viewpoint above the support plane can see it? The fan of the border
-/// loop where an object stands on its support (Sec. 4.1: the object stands on the plane at the bottom of the box)
-/// lies inside the object, under its scanned shell; that loop is no missing surface a scan could add.
+/// Enclosure test for the unseen-loop ĉ_m (ours, PlannerSetting::coverage_estimate = unseen_open): is a point walled
+/// in by measured surface? The fan of the border loop where an object stands on its support (Sec. 4.1: the object
+/// stands on the plane at the bottom of the box) lies inside the object, under its scanned shell; that loop is no
+/// missing surface a scan could add. The test samples 17 fixed directions, so an opening that none of them passes
+/// through (e.g. a narrow one ≈ 27° off an axis) is not seen: the point then counts as enclosed.
 ///
 /// Frames: world (types.hpp), +z up; the support plane is horizontal below every tested point.
 
@@ -40,10 +41,20 @@ namespace detail {
 /// Thread-safety: only reads `space`.
 template <PlanningSpace Space>
 [[nodiscard]] bool enclosed_by_surface(const Space& space, const Vec3& x, double reach_m) {
-  const auto all = [](const auto&...) { return true; };
   for (const Vec3& d : detail::upper_directions())
-    if (!space.cast_ray(Ray{x, x + reach_m * d}, all).hit) return false;
+    if (!space.cast_ray(Ray{x, x + reach_m * d}, detail::ContinueVisit{}).hit) return false;
   return true;
+}
+
+/// The `seen(x)` predicate of estimated_coverage_unseen as the planner uses it: x lies in a voxel with
+/// p > `occupied_threshold` or, with `with_enclosure` (CoverageEstimate::unseen_open), it is enclosed_by_surface
+/// with rays of `reach_m`. Holds a reference to `space`.
+template <class Space>
+[[nodiscard]] auto surface_seen(const Space& space, double occupied_threshold, double reach_m, bool with_enclosure) {
+  return [&space, occupied_threshold, reach_m, with_enclosure](const Vec3& x) {
+    return space.probability(x) > occupied_threshold ||
+           (with_enclosure && enclosed_by_surface(space, x, reach_m));
+  };
 }
 
 }  // namespace nbs

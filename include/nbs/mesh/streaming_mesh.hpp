@@ -53,7 +53,7 @@ struct StreamingMeshSettings {
   /// on the plane cover 1.03× its area (3–4× without) and the vertex RMS error is 0.43 mm; on the bunny (C_H, 30
   /// scans) the vertex RMS error drops from 1.07 to 0.66 mm with half the vertices. Off here (the thesis's stream as
   /// written); on in NoiseRobustStreamingMesh and in a planner's StreamingMesh by default (PlannerSetting::
-  /// noise_robust_mesh, with coverage_estimate = unseen_loops).
+  /// noise_robust_mesh, with coverage_estimate = unseen_open).
   bool project_vertices = false;
 
   [[nodiscard]] static StreamingMeshSettings from(const Parameters& p, const Aabb& unknown_area = {}) {

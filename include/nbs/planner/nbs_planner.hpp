@@ -134,6 +134,12 @@ public:
   [[nodiscard]] ModelProgress progress() const { return {scans_, coverage_, density_}; }
   [[nodiscard]] int scans() const { return scans_; }
   [[nodiscard]] double estimated_coverage() const { return coverage_; }
+  /// The `seen(x)` predicate of the unseen-loop ĉ_m forms (surface_seen over the planner's space, rays spanning the
+  /// unknown-area box, the enclosure test with CoverageEstimate::unseen_open), e.g. to recompute ĉ_m from mesh().
+  [[nodiscard]] auto coverage_seen() const {
+    return surface_seen(*space_, params_.occupied_threshold, (box_.max - box_.min).norm(),
+                        setting_.coverage_estimate == CoverageEstimate::unseen_open);
+  }
   [[nodiscard]] double mean_density() const { return density_; }
   [[nodiscard]] SearchMode mode() const { return mode_; }
   [[nodiscard]] const std::vector<ScanCandidate>& candidate_set() const { return pool_; }
@@ -216,13 +222,7 @@ IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& 
       const std::vector<Hole> loops = find_all_loops(*mesh_, params_);
       r.holes = static_cast<std::size_t>(std::ranges::count_if(
           loops, [&](const Hole& h) { return static_cast<int>(h.vertices.size()) <= params_.hole_max_edges; }));
-      const double reach = (box_.max - box_.min).norm();  // every ray of the enclosure test leaves the box
-      const bool open_only = setting_.coverage_estimate == CoverageEstimate::unseen_open;
-      const auto seen = [&](const Vec3& x) {
-        return space_->probability(x) > params_.occupied_threshold ||
-               (open_only && enclosed_by_surface(*space_, x, reach));
-      };
-      coverage_ = std::clamp(nbs::estimated_coverage_unseen(*mesh_, loops, seen), 0.0, 1.0);
+      coverage_ = std::clamp(nbs::estimated_coverage_unseen(*mesh_, loops, coverage_seen()), 0.0, 1.0);
     }
     density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
   }

@@ -81,7 +81,7 @@ public:
   }
 
   /// True if insert(v, ...) would take the meshed vertex q into v's fan patch (the first max_fan_neighbours such
-  /// neighbours are taken): normals within acos(min_normal_dot), q within 60° of v's tangent plane.
+  /// neighbours are taken): normals within acos(min_normal_dot), q within 30° of v's tangent plane.
   [[nodiscard]] bool fan_neighbour(VertexId v, VertexId q, const TriangulationSettings& s) const {
     const Vec3 d = pos_[q] - pos_[v];
     return !(nrm_[q].dot(nrm_[v]) < s.min_normal_dot || std::abs(d.dot(nrm_[v])) > 0.5 * d.norm());
