@@ -10,7 +10,8 @@
 //                     [--sampling P,R] [--threads N] [--hmax N] [--thesis-mesh]
 // The planner's defaults: noise-robust mesh, unseen_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
 // (PlannerSetting::thesis_mesh).
-// Environment: NBS_DIAG_FEATURES=1 prints the number of voxels with surface features per step; NBS_DIAG_DUMP=PREFIX
+// Environment: NBS_DIAG_FEATURES=1 prints per step the number of voxels with surface features and their mean b_i, d̄_i
+// and 1 − q_i (Eqs. 4.26, 4.28, 4.33), the share with b_i > 0; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
 // (see print_coverage_terms); with it, NBS_DIAG_LOOPS=K also prints the K loops of largest unseen area and where the
@@ -103,8 +104,18 @@ struct DiagnosticUtility {
     nbs::detail::parallel_for(paths.size(), sh.threads, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) sh.gain[i] = sh.true_gain(paths[i], sensor);
     });
-    if (std::getenv("NBS_DIAG_FEATURES"))  // surface features the quality term (Eq. 4.33) can see
-      std::printf("features in space %zu\n", space.features().size());
+    if (std::getenv("NBS_DIAG_FEATURES")) {  // surface features the quality term (Eq. 4.33) can see
+      double b = 0.0, d = 0.0, rescan = 0.0, border_voxels = 0.0;
+      space.features().for_each([&](const auto&, const nbs::SurfaceFeatures& f) {
+        b += f.border_share;
+        d += f.mean_density;
+        border_voxels += f.border_share > 0.0f ? 1.0 : 0.0;
+        rescan += 1.0 - nbs::voxel_quality(f.border_share, f.mean_density, ctx.params->quality_weight);
+      });
+      const double n = std::max<double>(1.0, static_cast<double>(space.features().size()));
+      std::printf("features in space %zu: mean b_i %.3f, mean d_i %.3f, share with b_i > 0 %.3f, mean 1 - q_i %.3f\n",
+                  space.features().size(), b / n, d / n, border_voxels / n, rescan / n);
+    }
     if (sh.oracle) {
       r.values = sh.gain;
       r.best = nbs::best_index(r.values);
