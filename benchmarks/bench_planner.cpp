@@ -3,7 +3,9 @@
 // Headlines: planner.t_nbs_median_s (median over the planning steps of one closed loop; target ≤ 0.05 s, thesis
 // Tab. 4.5: 1.37 s) and planner.t_nbs_per_candidate_ms (median of t_nbs / candidates scored), with the default
 // PlannerSetting (noise-robust mesh, unseen_open ĉ_m); planner.t_nbs_median_s_thesis_mesh: the same loop with the
-// thesis's mesh and ĉ_m (PlannerSetting::thesis_mesh).
+// thesis's mesh and ĉ_m (PlannerSetting::thesis_mesh). planner.t_integrate_median_s(_thesis_mesh): median time of
+// NbsPlanner::integrate per scan in the same loops and planner.t_coverage_median_s(_thesis_mesh) its ĉ_m part
+// (reported, no target); NBS_BENCH_STEPS=1 also prints each scan's integrate() breakdown.
 // Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
 // NBS_BENCH_STEPS=1 prints each step's breakdown (generate / replan / evaluate seconds, candidate counts, c_m, the
 // chosen candidate's utility u) and the largest c_m of the run; NBS_BENCH_SEED=N replaces the simulation seed 1 (which
@@ -73,6 +75,8 @@ BENCHMARK(BM_first_planning_step)->Unit(benchmark::kMillisecond)->Iterations(3);
 /// t_nbs per candidate over its planning steps. `verbose`: NBS_BENCH_STEPS / NBS_BENCH_REFINE_STUDY output.
 struct LoopTimes {
   double t_nbs_median_s = 0.0, per_candidate_ms = 0.0;
+  double t_integrate_median_s = 0.0;  ///< NbsPlanner::integrate (space, mesh, features, ĉ_m), median over the scans
+  double t_coverage_median_s = 0.0;   ///< of it: loops, ĉ_m and d̄_m (IntegrationReport::t_coverage_s)
   int scans = 0;
   double best_coverage = 0.0;
 };
@@ -82,7 +86,7 @@ LoopTimes closed_loop(const nbs::embree::SimulatedScanner& scanner, const nbs::P
   sim.seed = 1;
   if (const char* seed = std::getenv("NBS_BENCH_SEED")) sim.seed = std::strtoull(seed, nullptr, 10);
   sim.max_scans = nbs::bench::quick_mode() ? 8 : 30;
-  std::vector<double> t_nbs, per_candidate_ms;
+  std::vector<double> t_nbs, per_candidate_ms, t_integrate, t_coverage;
   const bool steps = verbose && std::getenv("NBS_BENCH_STEPS") != nullptr;
   double best_coverage = 0.0;
   int scans = 0;
@@ -114,6 +118,12 @@ LoopTimes closed_loop(const nbs::embree::SimulatedScanner& scanner, const nbs::P
       ++studied;
     }
     best_coverage = std::max(best_coverage, r.integration.estimated_coverage);
+    t_integrate.push_back(r.integration.t_integrate_s);
+    t_coverage.push_back(r.integration.t_coverage_s);
+    if (steps)
+      std::printf("scan %2d integrate %.4f s: space %.4f mesh %.4f features %.4f coverage %.4f\n", r.scan,
+                  r.integration.t_integrate_s, r.integration.t_space_s, r.integration.t_mesh_s,
+                  r.integration.t_features_s, r.integration.t_coverage_s);
     scans = r.scan;
     if (r.scan == 1 || r.planning.evaluated == 0) return;
     const nbs::IterationStats& p = r.planning;
@@ -128,7 +138,7 @@ LoopTimes closed_loop(const nbs::embree::SimulatedScanner& scanner, const nbs::P
     std::printf("study %zu,%zu: same pick %d / %d, worst relative value %.3f\n", settings[k].coarse_factor,
                 settings[k].refine_top, same[k], studied, worst[k]);
   if (steps) std::printf("seed %llu: %d scans, largest c_m %.4f\n", static_cast<unsigned long long>(sim.seed), scans, best_coverage);
-  return {median(t_nbs), median(per_candidate_ms), scans, best_coverage};
+  return {median(t_nbs), median(per_candidate_ms), median(t_integrate), median(t_coverage), scans, best_coverage};
 }
 
 }  // namespace
@@ -150,8 +160,16 @@ int main(int argc, char** argv) {
   std::snprintf(note, sizeof note, "C_H, bunny 160 mm, Tab. 4.3, 2 threads, %d scans; target <= 0.05 s", def.scans);
   nbs::bench::report_headline("planner.t_nbs_median_s", def.t_nbs_median_s, note);
   nbs::bench::report_headline("planner.t_nbs_per_candidate_ms", def.per_candidate_ms, "report");
+  nbs::bench::report_headline("planner.t_integrate_median_s", def.t_integrate_median_s,
+                              "report: integrate() per scan (space, mesh, features, c_m with unseen_open)");
+  nbs::bench::report_headline("planner.t_coverage_median_s", def.t_coverage_median_s,
+                              "report: of it loops, c_m (unseen_open: enclosure rays) and mean density");
   std::snprintf(note, sizeof note, "the same with the thesis's mesh and c_m, %d scans (largest c_m %.3f)", th.scans,
                 th.best_coverage);
   nbs::bench::report_headline("planner.t_nbs_median_s_thesis_mesh", th.t_nbs_median_s, note);
+  nbs::bench::report_headline("planner.t_integrate_median_s_thesis_mesh", th.t_integrate_median_s,
+                              "report: the same with the thesis's mesh and c_m");
+  nbs::bench::report_headline("planner.t_coverage_median_s_thesis_mesh", th.t_coverage_median_s,
+                              "report: of it holes, c_m (thesis) and mean density");
   return 0;
 }

@@ -209,9 +209,18 @@ IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& 
   } else if (r.points_inside == 0) {
     r.status = IntegrationStatus::outside_unknown_area;
   } else {
+    auto lap = [t = std::chrono::steady_clock::now()]() mutable {
+      const auto now = std::chrono::steady_clock::now();
+      const double s = std::chrono::duration<double>(now - t).count();
+      t = now;
+      return s;
+    };
     r.space = space_->integrate(scan);
+    r.t_space_s = lap();
     r.meshed = mesh_->integrate(scan);
+    r.t_mesh_s = lap();
     r.features_written = update_surface_features(*space_, *mesh_, params_);
+    r.t_features_s = lap();
     last_sensor_ = scan.profile_poses.front();
     last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
     if (setting_.coverage_estimate == CoverageEstimate::thesis) {
@@ -225,6 +234,7 @@ IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& 
       coverage_ = std::clamp(nbs::estimated_coverage_unseen(*mesh_, loops, coverage_seen()), 0.0, 1.0);
     }
     density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
+    r.t_coverage_s = lap();
   }
   // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.
   const SearchMode proposed = control_.update(coverage_);
