@@ -331,6 +331,10 @@ TEST_CASE("loop: the quality term sees surface after one scan; no planned path e
   REQUIRE(r.meshed > 0);
   CHECK(r.features_written > 0);
   CHECK(planner.space().features().size() == r.features_written);
+  // The integrate() time split: four non-negative, consecutive parts that add up to at most the total.
+  for (const double t : {r.t_space_s, r.t_mesh_s, r.t_features_s, r.t_coverage_s}) CHECK(t >= 0.0);
+  CHECK(r.t_mesh_s > 0.0);
+  CHECK(r.t_space_s + r.t_mesh_s + r.t_features_s + r.t_coverage_s <= r.t_integrate_s);
   nbs::SimulationSetting sim;
   sim.seed = 5;
   sim.max_scans = 6;
