@@ -10,7 +10,8 @@ the mean path up to each run's n_s: the path to the model that meets the quality
 c_obs, and, as a check that does not depend on the coverage estimate ĉ_m, the median number of scans after which
 the true c_a first reaches 0.95 · c_obs (n_abort + 1 for a run that never does; shown as "> n_abort" if the median is
 such a run) for C_H and C_S. A second table gives that truth-based count for every method in the outputs (rows in
-nbs_eval --help order, one column per mesh). Standard library only.
+nbs_eval --help order, one column per mesh); a third the curves of C_H and C_S: median c_a / c_obs and mean l_s after
+k scans. Standard library only.
 """
 import json
 import sys
@@ -97,6 +98,29 @@ def main(args):
             have = m in json.loads((out / "summary.json").read_text())
             cells.append(scans_to_truth(out / "runs.jsonl", m) if have else "-")
         print(f"| {m} | " + " | ".join(cells) + " |")
+    ks = [2, 3, 4, 5, 6, 8, 10, 15, 30]
+    print()
+    print("C_H and C_S after k scans: median c_a / c_obs, mean l_s in m:")
+    print()
+    print("| mesh | method | " + " | ".join(f"k = {k}" for k in ks) + " |")
+    print("|---|---|" + "---:|" * len(ks))
+    for name, out in zip(names, outs):
+        series = {}
+        with open(out / "runs.jsonl") as f:
+            for line in f:
+                r = json.loads(line)
+                if r["method"] in ("C_H", "C_S"):
+                    series.setdefault(r["method"], []).append(r)
+        for m in ("C_S", "C_H"):
+            runs = series[m]
+            cells = []
+            for k in ks:
+                shares = sorted(r["scans"]["c_a"][min(k, len(r["scans"]["c_a"])) - 1] / r["c_obs"] for r in runs)
+                n = len(shares)
+                med = shares[n // 2] if n % 2 else 0.5 * (shares[n // 2 - 1] + shares[n // 2])
+                path = sum(r["scans"]["l_s_m"][min(k, len(r["scans"]["l_s_m"])) - 1] for r in runs) / n
+                cells.append(f"{med:.3f}, {path:.2f} m")
+            print(f"| {name} | {m} | " + " | ".join(cells) + " |")
     return 0
 
 
