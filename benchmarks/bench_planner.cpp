@@ -5,11 +5,11 @@
 // PlannerSetting (noise-robust mesh, unseen_open ĉ_m); planner.t_nbs_median_s_thesis_mesh: the same loop with the
 // thesis's mesh and ĉ_m (PlannerSetting::thesis_mesh). planner.t_integrate_median_s(_thesis_mesh): median time of
 // NbsPlanner::integrate per scan in the same loops and planner.t_coverage_median_s(_thesis_mesh) its ĉ_m part
-// (reported, no target); NBS_BENCH_STEPS=1 also prints each scan's integrate() breakdown.
+// (reported, no target).
 // Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
 // NBS_BENCH_STEPS=1 prints each step's breakdown (generate / replan / evaluate seconds, candidate counts, c_m, the
-// chosen candidate's utility u) and the largest c_m of the run; NBS_BENCH_SEED=N replaces the simulation seed 1 (which
-// initial scan is taken);
+// chosen candidate's utility u), each scan's integrate() split and the largest c_m of the run; NBS_BENCH_SEED=N
+// replaces the simulation seed 1 (which initial scan is taken);
 // NBS_BENCH_REFINE=F,K replaces the coarse-to-fine setting of the closed loop (PlannerSetting::refine; 1,K = off).
 // NBS_BENCH_REFINE_STUDY=1: after each scan, scores the remaining set S once with every ray of the planner's sampling
 // and with several coarse-to-fine settings, and prints whether each picks the same candidate and the full-sampling
