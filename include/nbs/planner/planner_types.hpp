@@ -65,7 +65,7 @@ struct IntegrationReport {
   SearchMode mode = SearchMode::BoundarySearch;  ///< mode for the next planning step
   bool switched = false;              ///< this scan switched BS → HR (Eq. 4.38)
   bool done = false;                  ///< the termination criterion holds now
-  double t_integrate_s = 0.0;         ///< wall-clock time of integrate(), seconds; the four parts below and checks
+  double t_integrate_s = 0.0;         ///< wall-clock time of integrate(), seconds: the four parts below + input checks
   double t_space_s = 0.0;             ///< of it: voxel space update (Sec. 3.3.2)
   double t_mesh_s = 0.0;              ///< of it: mesh update (Sec. 3.3.1)
   double t_features_s = 0.0;          ///< of it: surface features (Sec. 4.5.1)
