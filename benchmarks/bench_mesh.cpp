@@ -172,12 +172,13 @@ void BM_DetectBoundariesBunny(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(nbs::detect_boundaries(m, sensor, nbs::Parameters{}).size());
 }
 BENCHMARK(BM_DetectBoundariesBunny)->Unit(benchmark::kMillisecond);
-// Surface features (Sec. 4.5.1) of the voxels the last scan touched, written into a 2 mm voxel space of the scans.
+// Surface features (Sec. 4.5.1) of the voxels the last scan touched, over a 2 mm voxel space of the scans.
 void BM_UpdateSurfaceFeaturesBunny(benchmark::State& state) {
   const auto& m = bunny_mesh();
   nbs::ProbabilisticVoxelSpace<> space(0.002, nbs::Aabb(Vec3(-0.12, -0.12, -0.01), Vec3(0.12, 0.12, 0.2)));
   for (const auto& s : bunny_scans()) (void)space.integrate(s);
-  for (auto _ : state) benchmark::DoNotOptimize(nbs::update_surface_features(space, m, nbs::Parameters{}));
+  nbs::SurfaceFeatureMap features;
+  for (auto _ : state) benchmark::DoNotOptimize(nbs::update_surface_features(features, space, m, nbs::Parameters{}));
 }
 BENCHMARK(BM_UpdateSurfaceFeaturesBunny)->Unit(benchmark::kMillisecond);
 #endif

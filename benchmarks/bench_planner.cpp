@@ -3,7 +3,7 @@
 // Headlines: planner.t_nbs_median_s (median over the planning steps of one closed loop; target ≤ 0.05 s, thesis
 // Tab. 4.5: 1.37 s) and planner.t_nbs_per_candidate_ms (median of t_nbs / candidates scored), with the default
 // PlannerSetting (noise-robust mesh, unseen_open ĉ_m); planner.t_nbs_median_s_thesis_mesh: the same loop with the
-// thesis's mesh and ĉ_m (PlannerSetting::thesis_mesh). planner.t_integrate_median_s(_thesis_mesh): median time of
+// thesis's mesh and ĉ_m (nbs::ThesisMeshPlanner). planner.t_integrate_median_s(_thesis_mesh): median time of
 // NbsPlanner::integrate per scan in the same loops and planner.t_coverage_median_s(_thesis_mesh) its ĉ_m part
 // (reported, no target).
 // Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
@@ -80,8 +80,9 @@ struct LoopTimes {
   int scans = 0;
   double best_coverage = 0.0;
 };
+template <class Planner>
 LoopTimes closed_loop(const nbs::embree::SimulatedScanner& scanner, const nbs::PlannerSetting& ps, bool verbose) {
-  nbs::NbsPlanner<> planner({}, nbs::presets::dlr_lsp(), fixture().box, ps);
+  Planner planner({}, nbs::presets::dlr_lsp(), fixture().box, ps);
   nbs::SimulationSetting sim;
   sim.seed = 1;
   if (const char* seed = std::getenv("NBS_BENCH_SEED")) sim.seed = std::strtoull(seed, nullptr, 10);
@@ -101,8 +102,9 @@ LoopTimes closed_loop(const nbs::embree::SimulatedScanner& scanner, const nbs::P
       for (const nbs::ScanCandidate& c : planner.candidate_set()) paths.push_back(c.path);
       const nbs::UtilityContext uctx{planner.scans(), 1, &planner.params()};
       const auto score = [&](const nbs::CoarseToFine& c) {
-        return planner.utility.evaluate(paths, planner.sensor(), planner.space(), uctx,
-                                        nbs::EvaluationSetting{ps.threads, ps.sampling, c});
+        nbs::EvaluationSetting es = planner.evaluation_setting();
+        es.refine = c;
+        return planner.utility.evaluate(paths, planner.sensor(), planner.space(), uctx, es);
       };
       const nbs::EvaluationResult full = score({1, 1});
       std::printf("study scan %2d: %3zu candidates, full %.4fs", r.scan, paths.size(), full.t_nbs_s);
@@ -153,9 +155,9 @@ int main(int argc, char** argv) {
     ps.refine.coarse_factor = std::strtoull(refine, &end, 10);
     ps.refine.refine_top = *end == ',' ? std::strtoull(end + 1, nullptr, 10) : 0;  // 0: rejected by validate()
   }
-  const LoopTimes def = closed_loop(scanner, ps, true);
-  // The thesis's mesh and ĉ_m (PlannerSetting::noise_robust_mesh = false, coverage_estimate = thesis), same loop.
-  const LoopTimes th = closed_loop(scanner, nbs::PlannerSetting::thesis_mesh(ps), false);
+  const LoopTimes def = closed_loop<nbs::NbsPlanner<>>(scanner, ps, true);
+  // The thesis's mesh and ĉ_m (StreamingMesh, ThesisCoverage), same loop.
+  const LoopTimes th = closed_loop<nbs::ThesisMeshPlanner<>>(scanner, ps, false);
   char note[160];
   std::snprintf(note, sizeof note, "C_H, bunny 160 mm, Tab. 4.3, 2 threads, %d scans; target <= 0.05 s", def.scans);
   nbs::bench::report_headline("planner.t_nbs_median_s", def.t_nbs_median_s, note);

@@ -52,6 +52,7 @@ struct Fixture {
   nbs::Aabb area;
   std::vector<nbs::Scan> scans;
   std::unique_ptr<nbs::ProbabilisticVoxelSpace<>> space;
+  nbs::SurfaceFeatureMap features;  // what the planner keeps beside the space
   std::vector<nbs::LinearScanPath> sphere;  // 81
   std::vector<nbs::LinearScanPath> twenty;  // every 4th
   std::vector<nbs::LinearScanPath> forty;   // every 2nd
@@ -72,7 +73,7 @@ struct Fixture {
     for (const auto& s : scans) {
       (void)space->integrate(s);
       (void)mesh.integrate(s);
-      (void)nbs::update_surface_features(*space, mesh, params);
+      (void)nbs::update_surface_features(features, *space, mesh, params);
     }
     n_v = nbs::non_free_voxel_count(*space);
     sphere = nbs::sphere_scan_paths(object.center(), 0.3);
@@ -81,7 +82,7 @@ struct Fixture {
       if (i % 2 == 0) forty.push_back(sphere[i]);
     }
     std::printf("utility: %zu observed voxels, %zu feature voxels, N_v %.0f\n", nbs::observed_count(space->backend()),
-                space->features().size(), n_v);
+                features.size(), n_v);
   }
 
   [[nodiscard]] nbs::ThesisModel thesis_model() const {
@@ -107,7 +108,9 @@ Fixture& fixture() {
 nbs::EvaluationResult evaluate(const std::vector<nbs::LinearScanPath>& c, nbs::RaySampling s, unsigned threads,
                                double omega = nbs::modeling_weight(3.0)) {
   const auto& f = fixture();
-  return nbs::evaluate_candidates(c, f.sensor, *f.space, f.term(omega), nbs::EvaluationSetting{threads, s});
+  nbs::EvaluationSetting setting{threads, s};
+  setting.features = &f.features;
+  return nbs::evaluate_candidates(c, f.sensor, *f.space, f.term(omega), setting);
 }
 
 std::uint64_t sum(const std::vector<std::uint64_t>& v) { return std::accumulate(v.begin(), v.end(), std::uint64_t{0}); }
@@ -231,8 +234,9 @@ int main(int argc, char** argv) {
   // over the bits of every value, for before/after comparisons), and one bare loop over the 20 candidates' rays.
   if (std::getenv("NBS_BENCH_PROFILE") != nullptr) {
     const auto& f = fixture();
-    const auto r = nbs::evaluate_candidates(f.sphere, f.sensor, *f.space, f.term(),
-                                            nbs::EvaluationSetting{1, kDefault, nbs::CoarseToFine{4, 32}});
+    nbs::EvaluationSetting setting{1, kDefault, nbs::CoarseToFine{4, 32}};
+    setting.features = &f.features;
+    const auto r = nbs::evaluate_candidates(f.sphere, f.sensor, *f.space, f.term(), setting);
     std::uint64_t hash = 14695981039346656037ull;
     for (double v : r.values) {
       std::uint64_t bits;

@@ -9,7 +9,7 @@
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
 //                     [--sampling P,R] [--threads N] [--hmax N] [--thesis-mesh]
 // The planner's defaults: noise-robust mesh, unseen_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
-// (PlannerSetting::thesis_mesh).
+// (RuntimeModels::thesis).
 // Environment: NBS_DIAG_FEATURES=1 prints per step the number of voxels with surface features and their mean b_i, d̄_i
 // and 1 − q_i (Eqs. 4.26, 4.28, 4.33), the share with b_i > 0; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
@@ -31,6 +31,7 @@
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/planner/nbs_planner.hpp"
+#include "nbs/planner/runtime_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/detail/parallel_for.hpp"
@@ -106,15 +107,17 @@ struct DiagnosticUtility {
     });
     if (std::getenv("NBS_DIAG_FEATURES")) {  // surface features the quality term (Eq. 4.33) can see
       double b = 0.0, d = 0.0, rescan = 0.0, border_voxels = 0.0;
-      space.features().for_each([&](const auto&, const nbs::SurfaceFeatures& f) {
+      const nbs::SurfaceFeatureMap none;
+      const nbs::SurfaceFeatureMap& features = eval.features ? *eval.features : none;
+      features.for_each([&](const auto&, const nbs::SurfaceFeatures& f) {
         b += f.border_share;
         d += f.mean_density;
         border_voxels += f.border_share > 0.0f ? 1.0 : 0.0;
         rescan += 1.0 - nbs::voxel_quality(f.border_share, f.mean_density, ctx.params->quality_weight);
       });
-      const double n = std::max<double>(1.0, static_cast<double>(space.features().size()));
+      const double n = std::max<double>(1.0, static_cast<double>(features.size()));
       std::printf("features in space %zu: mean b_i %.3f, mean d_i %.3f, share with b_i > 0 %.3f, mean 1 - q_i %.3f\n",
-                  space.features().size(), b / n, d / n, border_voxels / n, rescan / n);
+                  features.size(), b / n, d / n, border_voxels / n, rescan / n);
     }
     if (sh.oracle) {
       r.values = sh.gain;
@@ -185,7 +188,8 @@ void print_loops(const Planner& planner, const nbs::Parameters& params, const st
   using namespace nbs;
   const auto& mesh = planner.mesh();
   const auto& space = planner.space();
-  const auto seen = planner.coverage_seen();  // the unseen share as the planner's ĉ_m form counts it
+  // the unseen share as the planner's ĉ_m form counts it
+  const auto seen = planner.coverage.seen(space, params, planner.unknown_area());
   std::vector<std::pair<double, std::size_t>> order;
   double total = 0.0;
   for (std::size_t i = 0; i < loops.size(); ++i) {
@@ -336,9 +340,13 @@ int run(const Options& opt) {
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
-  if (opt.thesis_mesh) ps = PlannerSetting::thesis_mesh(ps);
-  NbsPlanner<ProbabilisticVoxelSpace<>, Mesh, Search, DiagnosticUtility, MaxScansReached> planner(
-      params, presets::dlr_lsp(), unknown, ps);
+  const RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
+  StreamingMeshSettings mesh_settings = StreamingMeshSettings::from(params, unknown);
+  if (models.noise_robust_mesh) mesh_settings = NoiseRobustStreamingMesh::robust(mesh_settings);
+  NbsPlanner<DiagnosticUtility, Search, LaserStripeProfiler, NoCollisions, MaxScansReached, ProbabilisticVoxelSpace<>,
+             Mesh, SelectableCoverage>
+      planner(params, presets::dlr_lsp(), unknown, ps, mesh_settings);
+  planner.coverage.setting.form = models.coverage_estimate;
   planner.termination = MaxScansReached(opt.scans);
   CoverageTracker cov = truth.tracker();
   std::printf("scan mode  c_m^    c_a %%  points  cand  chosen_gain  best_gain  rank  spearman\n");

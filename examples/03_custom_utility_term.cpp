@@ -28,8 +28,7 @@ struct NearUnknownGain {
 };
 static_assert(nbs::UtilityTerm<NearUnknownGain>);  // fails here, at your line, if a member is missing
 
-using Planner = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh, nbs::BoundaryHoleSpace,
-                                nbs::TermUtility<NearUnknownGain>>;
+using Planner = nbs::NbsPlanner<nbs::TermUtility<NearUnknownGain>>;  // the other policies: the defaults
 
 int main(int argc, char** argv) {
   try {

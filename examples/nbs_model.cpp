@@ -53,7 +53,7 @@ constexpr const char* kUsage =
     "  --out DIR       output directory, created if missing (default out)\n"
     "  --no-images     do not write the PNG pictures\n"
     "  --initial-only  no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply\n"
-    "  --thesis-mesh   the thesis's mesh and estimated coverage (PlannerSetting::thesis_mesh) instead of the\n"
+    "  --thesis-mesh   the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the\n"
     "                  noise-robust mesh and the unseen_open estimate\n"
     "The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
     "DIR/view_NN.png, DIR/final.png and DIR/report.json.\n";
@@ -326,10 +326,11 @@ int run(const Options& opt) {
   Aabb unknown = box;
   unknown.min -= Vec3(0.01, 0.01, 0.0);
   unknown.max += Vec3(0.01, 0.01, 0.01);
-  PlannerSetting ps = opt.thesis_mesh ? PlannerSetting::thesis_mesh() : PlannerSetting{};
+  PlannerSetting ps;
+  const RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
   ps.threads = opt.threads;
   ps.seed = opt.seed;
-  RuntimePlanner planner(opt.method, params, lsp, unknown, ps);
+  RuntimePlanner planner(opt.method, params, lsp, unknown, ps, models);
   const std::string code = planner.code();
   std::printf("planner %s, n_abort %d, unknown area %.3f x %.3f x %.3f m, voxel %.1f mm, seed %llu, %u threads\n",
               code.c_str(), params.max_scans, unknown.extent().x(), unknown.extent().y(), unknown.extent().z(),
@@ -397,11 +398,9 @@ int run(const Options& opt) {
           for (const ScanCandidate& c : p.candidate_set()) paths.push_back(c.path);
           if (paths.size() == 1) return;
           const std::span<const LinearScanPath> rest(paths.data() + 1, paths.size() - 1);
-          const UtilityContext uctx{p.scans(),
-                                    nbs::detail::splitmix64(p.setting().seed ^ nbs::detail::splitmix64(std::uint64_t(p.scans()))),
-                                    &p.params()};
-          const EvaluationResult res =
-              p.utility.evaluate(rest, p.sensor(), p.space(), uctx, EvaluationSetting{p.setting().threads, p.setting().sampling});
+          EvaluationSetting es = p.evaluation_setting();
+          es.refine = {};  // every candidate with the full sampling
+          const EvaluationResult res = p.utility.evaluate(rest, p.sensor(), p.space(), p.utility_context(), es);
           for (double v : res.values) utility.push_back(v);
         },
         planner.variant());

@@ -5,8 +5,8 @@
 /// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
 /// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
 /// "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
-/// (default) | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (PlannerSetting::noise_robust_mesh,
-/// ::coverage_estimate, ::keep_exploring; the defaults are PlannerSetting's).
+/// (default) | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
+/// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <charconv>
@@ -37,15 +37,16 @@ struct UsageError : std::runtime_error {
 struct Setup {
   Parameters params{};
   std::string sensor = "dlr_lsp";
-  /// Planner choices that are not thesis parameters: noise_robust_mesh ("mesh": "thesis" | "noise_robust"),
-  /// coverage_estimate ("unseen_open" | "unseen_loops" | "thesis"), keep_exploring (true | false); threads and seed
-  /// are the runner's.
+  /// Planner choices that are not thesis parameters: keep_exploring (true | false); threads and seed are the
+  /// runner's.
   PlannerSetting planner{};
+  /// The mesh ("mesh": "thesis" | "noise_robust") and the ĉ_m form ("coverage_estimate": "unseen_open" |
+  /// "unseen_loops" | "thesis") of the runtime facade.
+  RuntimeModels models{};
 };
 
 namespace detail {
-inline constexpr std::string_view kMeshNames[] = {"thesis", "noise_robust"};             // index = noise_robust_mesh
-inline constexpr std::string_view kCoverageNames[] = {"thesis", "unseen_loops", "unseen_open"};  // = CoverageEstimate
+inline constexpr std::string_view kMeshNames[] = {"thesis", "noise_robust"};  // index = RuntimeModels::noise_robust_mesh
 
 /// Index of the string value of config key `key` in `names`. Throws UsageError naming the key, the value and the
 /// valid names.
@@ -121,8 +122,8 @@ void for_each_parameter(Parameters& p, F&& f) {
   nlohmann::json j = nlohmann::json::object();
   detail::for_each_parameter(s.params, [&](const char* name, auto& field) { j[name] = field; });
   j["sensor"] = s.sensor;
-  j["mesh"] = detail::kMeshNames[s.planner.noise_robust_mesh ? 1 : 0];
-  j["coverage_estimate"] = detail::kCoverageNames[static_cast<std::size_t>(s.planner.coverage_estimate)];
+  j["mesh"] = detail::kMeshNames[s.models.noise_robust_mesh ? 1 : 0];
+  j["coverage_estimate"] = kCoverageEstimateNames[static_cast<std::size_t>(s.models.coverage_estimate)];
   j["keep_exploring"] = s.planner.keep_exploring;
   return j;
 }
@@ -146,11 +147,11 @@ void for_each_parameter(Parameters& p, F&& f) {
     }
     try {
       if (key == "mesh") {
-        s.planner.noise_robust_mesh = detail::choice(value, key, detail::kMeshNames) == 1;
+        s.models.noise_robust_mesh = detail::choice(value, key, detail::kMeshNames) == 1;
         continue;
       }
       if (key == "coverage_estimate") {
-        s.planner.coverage_estimate = static_cast<CoverageEstimate>(detail::choice(value, key, detail::kCoverageNames));
+        s.models.coverage_estimate = static_cast<CoverageEstimate>(detail::choice(value, key, kCoverageEstimateNames));
         continue;
       }
       if (key == "keep_exploring") {

@@ -214,7 +214,7 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     write_text(dir / "eval.json", config.dump(2) + "\n");
 
     const RunContext ctx{scanner, truth, setup.params, sensor, unknown_area_of(mesh, o.size_m), o.scans, c_obs,
-                         setup.planner};
+                         setup.planner, setup.models};
     std::ofstream lines(dir / "runs.jsonl", std::ios::app);
     if (!lines) throw std::runtime_error("cannot append to '" + (dir / "runs.jsonl").string() + "'");
     Progress progress(todo.size(), log);

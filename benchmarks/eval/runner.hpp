@@ -45,7 +45,8 @@ struct RunContext {
   Aabb unknown_area;
   int n_abort = 30;
   double c_obs = 0.0;
-  PlannerSetting setting{};  ///< mesh, ĉ_m form and keep_exploring of the config; threads and seed are set per run
+  PlannerSetting setting{};  ///< keep_exploring of the config; threads and seed are set per run
+  RuntimeModels models{};    ///< mesh and ĉ_m form of the config
 };
 
 /// Runs method `m`, run index `run` with seed `seed`. Throws what the planner or scanner throw.
@@ -55,7 +56,7 @@ struct RunContext {
   setting.seed = seed;
   Parameters params = ctx.params;
   params.max_scans = ctx.n_abort;
-  RuntimePlanner planner(m, params, ctx.sensor, ctx.unknown_area, setting);
+  RuntimePlanner planner(m, params, ctx.sensor, ctx.unknown_area, setting, ctx.models);
   // Keep planning after the quality criterion holds (Sec. 4.7.2: "we do not abort the algorithm after n_s"):
   // the planner's own coverage criterion is made unreachable; n_s is judged below with the real targets.
   std::visit(

@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "nbs/space/probabilistic_voxel_space.hpp"
 #include "../mesh/mesh_test_util.hpp"
 #include "nbs/candidates/boundary_search.hpp"
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "nbs/space/probabilistic_voxel_space.hpp"
 #include "../mesh/mesh_test_util.hpp"
 #include "nbs/candidates/generators.hpp"
 

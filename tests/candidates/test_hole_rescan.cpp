@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "nbs/space/probabilistic_voxel_space.hpp"
 #include "../mesh/mesh_test_util.hpp"
 #include "nbs/candidates/hole_rescan.hpp"
 

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "nbs/space/probabilistic_voxel_space.hpp"
 #include "../fcl/box_oracle.hpp"
 #include "nbs/candidates/replanning.hpp"
 

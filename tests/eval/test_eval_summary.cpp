@@ -182,13 +182,13 @@ TEST_CASE("run record JSON round trip", "[eval]") {
 
 TEST_CASE("config file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {
   const nbs::eval::Setup d = nbs::eval::parse_setup("{}", "cfg");  // the planner's defaults
-  CHECK(d.planner.noise_robust_mesh);
-  CHECK(d.planner.coverage_estimate == nbs::CoverageEstimate::unseen_open);
+  CHECK(d.models.noise_robust_mesh);
+  CHECK(d.models.coverage_estimate == nbs::CoverageEstimate::unseen_open);
   CHECK(d.planner.keep_exploring);
   const nbs::eval::Setup r = nbs::eval::parse_setup(
       R"({"mesh": "thesis", "coverage_estimate": "thesis", "keep_exploring": false})", "cfg");
-  CHECK_FALSE(r.planner.noise_robust_mesh);
-  CHECK(r.planner.coverage_estimate == nbs::CoverageEstimate::thesis);
+  CHECK_FALSE(r.models.noise_robust_mesh);
+  CHECK(r.models.coverage_estimate == nbs::CoverageEstimate::thesis);
   CHECK_FALSE(r.planner.keep_exploring);
   // The written configuration names them, so a rerun with another choice in the same --out is refused, and it
   // reads back to the same set-up.
@@ -197,12 +197,12 @@ TEST_CASE("config file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK(nbs::eval::setup_json(r)["keep_exploring"] == false);
   CHECK(nbs::eval::setup_json(d)["mesh"] == "noise_robust");
   CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "unseen_open");
-  CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "unseen_loops"})", "cfg").planner.coverage_estimate ==
+  CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "unseen_loops"})", "cfg").models.coverage_estimate ==
         nbs::CoverageEstimate::unseen_loops);
   CHECK(nbs::eval::setup_json(d)["keep_exploring"] == true);
   const nbs::eval::Setup back = nbs::eval::parse_setup(nbs::eval::setup_json(r).dump(), "cfg");
-  CHECK_FALSE(back.planner.noise_robust_mesh);
-  CHECK(back.planner.coverage_estimate == nbs::CoverageEstimate::thesis);
+  CHECK_FALSE(back.models.noise_robust_mesh);
+  CHECK(back.models.coverage_estimate == nbs::CoverageEstimate::thesis);
   CHECK_FALSE(back.planner.keep_exploring);
 }
 

@@ -10,6 +10,7 @@
 #include "mesh_test_util.hpp"
 #include "nbs/io/read_ply.hpp"
 #include "nbs/mesh/mesh.hpp"
+#include "nbs/space/probabilistic_voxel_space.hpp"
 
 using nbs::Vec3;
 using nbs::test::down_at;
@@ -197,13 +198,15 @@ TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
     CHECK(f.border_share == share);
   }
   SECTION("incremental update writes only occupied voxels touched by the scan") {
-    struct FakeSpace {
-      nbs::VoxelGrid g{0.005};
-      nbs::SurfaceFeatureMap map;
-      const nbs::VoxelGrid& grid() const { return g; }
+    // A voxel space whose voxels with x ≥ 0 are occupied (p = 0.99), the rest unknown.
+    struct HalfSpace : nbs::ProbabilisticVoxelSpace<> {
+      using ProbabilisticVoxelSpace::ProbabilisticVoxelSpace;
+      using ProbabilisticVoxelSpace::probability;
       double probability(const nbs::VoxelKey& k) const { return k.x >= 0 ? 0.99 : 0.5; }
-      nbs::SurfaceFeatureMap& features() { return map; }
-    } space;
+    } space(0.005, nbs::Aabb{});
+    struct {
+      nbs::SurfaceFeatureMap map;
+    } out;
     // Two overlapping scans of a larger patch: M_cur (the second scan's faces) is part of the mesh.
     const nbs::test::PlanePatch wide(0.03, 0.03);
     nbs::StreamingMesh two;
@@ -214,11 +217,11 @@ TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
     CHECK(current > 0);
     CHECK(current < two.face_count());
     const auto table2 = nbs::compute_surface_features(two, grid);
-    const std::size_t written = nbs::update_surface_features(space, two, nbs::Parameters{});
-    CHECK(written == space.map.size());
+    const std::size_t written = nbs::update_surface_features(out.map, space, two, nbs::Parameters{});
+    CHECK(written == out.map.size());
     CHECK(written > 0);
     std::size_t seen = 0;
-    space.map.for_each([&](const nbs::VoxelKey& k, const nbs::SurfaceFeatures& f) {
+    out.map.for_each([&](const nbs::VoxelKey& k, const nbs::SurfaceFeatures& f) {
       CHECK(k.x >= 0);
       CHECK(f.border_share == table2.at(k).border_share);
       ++seen;
@@ -231,7 +234,7 @@ TEST_CASE("surface features per voxel (Eqs. 4.26-4.28)", "[mesh]") {
         if (const auto k = space.grid().key_of(two.position(v)); k && k->x >= 0 && table2.count(*k)) touched.insert(*k);
     });
     CHECK(seen == touched.size());
-    for (const auto& k : touched) CHECK(space.map.find(k) != nullptr);
+    for (const auto& k : touched) CHECK(out.map.find(k) != nullptr);
   }
 }
 

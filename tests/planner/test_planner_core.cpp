@@ -178,11 +178,10 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
           "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
   const nbs::SimulationSetting sim = loop_setting(5, 4);
-  using Robust = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::NoiseRobustStreamingMesh>;
-  nbs::PlannerSetting s1 = setting(1), s2 = setting(2);
-  s1.coverage_estimate = s2.coverage_estimate = nbs::CoverageEstimate::unseen_loops;
-  Robust p1({}, light_lsp(), sphere_box(), s1);
-  Robust p2({}, light_lsp(), sphere_box(), s2);
+  // The unseen_loops form of ĉ_m: UnseenLoopCoverage without the enclosure test.
+  nbs::NbsPlanner<> p1({}, light_lsp(), sphere_box(), setting(1));
+  nbs::NbsPlanner<> p2({}, light_lsp(), sphere_box(), setting(2));
+  p1.coverage.setting.enclosure = p2.coverage.setting.enclosure = false;
   const auto a = nbs::run_simulation(p1, sphere, sim);
   const auto b = nbs::run_simulation(p2, sphere, sim);
   REQUIRE(a.records.size() == 4);
@@ -196,6 +195,7 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   const auto rep = nbs::check_invariants(mesh, mesh.settings().reduction_radius_m);
   INFO(rep.problems);
   CHECK(rep.ok());
+  // The default Mesh policy is NoiseRobustStreamingMesh: both noise-robust options on.
   CHECK(mesh.settings().project_vertices);
   CHECK(mesh.settings().density_depth_m == mesh.settings().normal_radius_m);
   std::size_t moved = 0;  // meshed vertices sit on their PCA planes, not at the measured points
@@ -203,29 +203,28 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
     moved += mesh.has_normal(v) && mesh.position(v) != mesh.stored_position(v) ? 1 : 0;
   CHECK(moved > mesh.vertex_count() / 2);
 
-  // PlannerSetting::noise_robust_mesh (the default) gives a StreamingMesh policy the same mesh: the same plan, step
-  // for step; false gives the thesis's stream as written.
-  nbs::PlannerSetting s3 = s1;
-  CHECK(s3.noise_robust_mesh);
-  nbs::PlannerSetting thesis_setting = s1;
-  thesis_setting.noise_robust_mesh = false;
-  const nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh> thesis({}, light_lsp(), sphere_box(),
-                                                                                    thesis_setting);
+  // A StreamingMesh policy is the thesis's stream as written; given the noise-robust settings it builds the same
+  // mesh as NoiseRobustStreamingMesh: the same plan, step for step.
+  using Plain = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
+                                nbs::NoCollisions, nbs::DefaultTermination, nbs::ProbabilisticVoxelSpace<>,
+                                nbs::StreamingMesh>;
+  const Plain thesis({}, light_lsp(), sphere_box(), setting(1));
   CHECK_FALSE(thesis.mesh().settings().project_vertices);
   CHECK(thesis.mesh().settings().density_depth_m == 0.0);
-  nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh> p3({}, light_lsp(), sphere_box(), s3);
+  Plain p3({}, light_lsp(), sphere_box(), setting(1),
+           nbs::NoiseRobustStreamingMesh::robust(nbs::StreamingMeshSettings::from({}, sphere_box())));
+  p3.coverage.setting.enclosure = false;
   const auto c = nbs::run_simulation(p3, sphere, sim);
   check_same_plan(a, c);
   CHECK(p3.mesh().vertex_count() == mesh.vertex_count());
   CHECK(p3.mesh().settings().project_vertices);
   CHECK(p3.mesh().settings().density_depth_m == p3.mesh().settings().normal_radius_m);
-  // The default ĉ_m (unseen_open) also calls fan samples walled in by measured surface seen: recomputed from the
-  // final models with the public functions; the planner's coverage_seen() agrees sample for sample; on the sphere
-  // standing on its pedestal the enclosure test fires (the contact loop), so ĉ_m exceeds the unseen_loops value.
-  nbs::PlannerSetting s4 = s1;
-  s4.coverage_estimate = nbs::CoverageEstimate::unseen_open;
-  CHECK(nbs::PlannerSetting{}.coverage_estimate == nbs::CoverageEstimate::unseen_open);
-  Robust p4({}, light_lsp(), sphere_box(), s4);
+  // The default ĉ_m (UnseenLoopCoverage with the enclosure test, unseen_open) also calls fan samples walled in by
+  // measured surface seen: recomputed from the final models with the public functions; the policy's seen() agrees
+  // sample for sample; on the sphere standing on its pedestal the enclosure test fires (the contact loop), so ĉ_m
+  // exceeds the unseen_loops value.
+  CHECK(nbs::UnseenLoopCoverage{}.setting.enclosure);
+  nbs::NbsPlanner<> p4({}, light_lsp(), sphere_box(), setting(1));
   (void)nbs::run_simulation(p4, sphere, sim);
   const auto loops4 = nbs::find_all_loops(p4.mesh(), params);
   const auto seen4 = [&](const Vec3& x) { return p4.space().probability(x) > params.occupied_threshold; };
@@ -233,7 +232,7 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   const auto open4 = [&](const Vec3& x) { return seen4(x) || nbs::enclosed_by_surface(p4.space(), x, reach); };
   const double c_open = std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, open4), 0.0, 1.0);
   CHECK(p4.estimated_coverage() == c_open);
-  const auto planner_seen = p4.coverage_seen();
+  const auto planner_seen = p4.coverage.seen(p4.space(), p4.params(), p4.unknown_area());
   std::size_t enclosed = 0, mismatched = 0;
   for (const nbs::Hole& h : loops4)
     nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
@@ -243,14 +242,14 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   CHECK(mismatched == 0);
   CHECK(enclosed > 0);
   CHECK(c_open > std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, seen4), 0.0, 1.0));
-  // A Mesh policy derived from StreamingMesh keeps its own settings whatever noise_robust_mesh says.
-  const Robust p5({}, light_lsp(), sphere_box(), nbs::PlannerSetting::thesis_mesh(s1));
-  CHECK(p5.mesh().settings().project_vertices);
-
-  // It is fixed at construction: the mesh exists.
-  nbs::PlannerSetting other = p3.setting();
-  other.noise_robust_mesh = false;
-  CHECK_THROWS_WITH(p3.set_setting(other), Catch::Contains("noise_robust_mesh cannot change"));
+  // SelectableCoverage (the runtime facade's) gives the same values as the policy it names.
+  const nbs::CoverageInput<nbs::NoiseRobustStreamingMesh, nbs::ProbabilisticVoxelSpace<>> in{
+      p4.mesh(), p4.space(), p4.params(), p4.unknown_area()};
+  CHECK(nbs::SelectableCoverage{}.estimate(in).coverage == c_open);
+  CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::unseen_loops}}.estimate(in).coverage ==
+        nbs::UnseenLoopCoverage{{false}}.estimate(in).coverage);
+  CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::thesis}}.estimate(in).coverage ==
+        std::clamp(nbs::estimated_coverage(p4.mesh(), nbs::find_holes(p4.mesh(), params)), 0.0, 1.0));
 }
 
 TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[planner][loop]") {
@@ -262,8 +261,8 @@ TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[p
   sim.max_scans = 40;  // larger than n_abort: the planner's criterion must stop the loop
   nbs::PlannerSetting thesis = setting(2);
   thesis.keep_exploring = false;  // Sec. 4.4 as written: Boundary Search candidates are discarded at the switch
-  thesis = nbs::PlannerSetting::thesis_mesh(thesis);  // and the thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4)
-  nbs::NbsPlanner<> p(params, light_lsp(), sphere_box(), thesis);
+  // and the thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4)
+  nbs::ThesisMeshPlanner<> p(params, light_lsp(), sphere_box(), thesis);
   std::vector<int> seen;
   const auto res = nbs::run_simulation(p, sphere, sim, [&](const nbs::ScanRecord& r) { seen.push_back(r.scan); });
   const auto& rec = res.records;
@@ -307,8 +306,8 @@ TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[p
 
 TEST_CASE("loop: a custom termination policy stops the loop exactly", "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
-  using Planner = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh, nbs::BoundarySpace,
-                                  nbs::RandomUtility, nbs::MaxScansReached>;
+  using Planner = nbs::NbsPlanner<nbs::RandomUtility, nbs::BoundarySpace, nbs::LaserStripeProfiler, nbs::NoCollisions,
+                                  nbs::MaxScansReached, nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh>;
   Planner p({}, light_lsp(), sphere_box());
   p.termination = nbs::MaxScansReached(3);
   const auto res = nbs::run_simulation(p, sphere, {});
@@ -330,7 +329,7 @@ TEST_CASE("loop: the quality term sees surface after one scan; no planned path e
   // must pass Parameters::occupied_threshold), so Eq. 4.33 has something to weigh from the first planning step on.
   REQUIRE(r.meshed > 0);
   CHECK(r.features_written > 0);
-  CHECK(planner.space().features().size() == r.features_written);
+  CHECK(planner.features().size() == r.features_written);
   // The integrate() time split: four non-negative, consecutive parts that add up to at most the total.
   for (const double t : {r.t_space_s, r.t_mesh_s, r.t_features_s, r.t_coverage_s}) CHECK(t >= 0.0);
   CHECK(r.t_mesh_s > 0.0);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "nbs/space/export_ply.hpp"
+#include "nbs/space/surface_features.hpp"
 #include "support/single_beam.hpp"
 
 namespace {
@@ -72,26 +73,26 @@ TEST_CASE("PLY export: black = free, grey = unknown, white = occupied", "[space]
 }
 
 TEST_CASE("surface features are stored per voxel and validated", "[space][features]") {
-  nbs::ProbabilisticVoxelSpace<> space(0.005, kBox);
+  nbs::SurfaceFeatureMap features;
   nbs::SurfaceFeatures f;
   f.mean_density = 0.25f;
   f.mean_normal = Eigen::Vector3f(0, 0.6f, 0.8f);
   f.border_share = 0.5f;
-  space.features().set(VoxelKey{1, 2, 3}, f);
-  REQUIRE(space.features().size() == 1);
-  const auto* g = space.features().find(VoxelKey{1, 2, 3});
+  features.set(VoxelKey{1, 2, 3}, f);
+  REQUIRE(features.size() == 1);
+  const auto* g = features.find(VoxelKey{1, 2, 3});
   REQUIRE(g != nullptr);
   REQUIRE(g->mean_density == 0.25f);
   REQUIRE(g->mean_normal == f.mean_normal);
   REQUIRE(g->border_share == 0.5f);
-  REQUIRE(space.features().find(VoxelKey{1, 2, 4}) == nullptr);
+  REQUIRE(features.find(VoxelKey{1, 2, 4}) == nullptr);
   nbs::SurfaceFeatures bad = f;
   bad.mean_density = 1.5f;
-  REQUIRE_THROWS_AS(space.features().set(VoxelKey{0, 0, 0}, bad), nbs::InvalidArgument);
+  REQUIRE_THROWS_AS(features.set(VoxelKey{0, 0, 0}, bad), nbs::InvalidArgument);
   bad = f;
   bad.mean_normal = Eigen::Vector3f(2, 0, 0);
-  REQUIRE_THROWS_AS(space.features().set(VoxelKey{0, 0, 0}, bad), nbs::InvalidArgument);
-  REQUIRE(space.features().size() == 1);
-  REQUIRE(space.features().erase(VoxelKey{1, 2, 3}));
-  REQUIRE(space.features().size() == 0);
+  REQUIRE_THROWS_AS(features.set(VoxelKey{0, 0, 0}, bad), nbs::InvalidArgument);
+  REQUIRE(features.size() == 1);
+  REQUIRE(features.erase(VoxelKey{1, 2, 3}));
+  REQUIRE(features.size() == 0);
 }

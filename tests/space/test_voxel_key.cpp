@@ -6,7 +6,7 @@
 #include <tuple>
 #include <random>
 
-#include "nbs/space/detail/key_slots.hpp"
+#include "nbs/space/key_slots.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 using nbs::VoxelKey;
@@ -63,7 +63,7 @@ TEST_CASE("KeySlots: dense and hashed modes agree with a std::map oracle; keys o
           "[space]") {
   const nbs::KeyBox box{{-3, 2, -5}, {4, 6, 1}};  // 8 x 5 x 7 = 280 voxels
   for (const std::size_t limit : {std::size_t{1000}, std::size_t{100}}) {
-    nbs::detail::KeySlots slots(box, limit);
+    nbs::KeySlots slots(box, limit);
     CHECK(slots.dense() == (limit == 1000));
     std::map<std::tuple<int, int, int>, std::int32_t> oracle;
     std::mt19937 rng(3);
@@ -78,9 +78,9 @@ TEST_CASE("KeySlots: dense and hashed modes agree with a std::map oracle; keys o
       for (int y = -8; y <= 9; ++y)
         for (int z = -8; z <= 9; ++z) {
           const auto it = oracle.find({x, y, z});
-          CHECK(slots.find({x, y, z}) == (it == oracle.end() ? nbs::detail::KeySlots::kNone : it->second));
+          CHECK(slots.find({x, y, z}) == (it == oracle.end() ? nbs::KeySlots::kNone : it->second));
         }
   }
-  const nbs::detail::KeySlots none(nbs::KeyBox{});
-  CHECK(none.find({0, 0, 0}) == nbs::detail::KeySlots::kNone);
+  const nbs::KeySlots none(nbs::KeyBox{});
+  CHECK(none.find({0, 0, 0}) == nbs::KeySlots::kNone);
 }

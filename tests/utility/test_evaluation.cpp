@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 #include <vector>
 
+#include "nbs/space/probabilistic_voxel_space.hpp"
 #include "nbs/space/ray_traversal.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
 #include "nbs/utility/peer_terms.hpp"
@@ -202,20 +204,35 @@ TEST_CASE("bad input: empty list, invalid sensor or sampling, non-finite paths",
 // ---- The evaluator's snapshot path (detail/planning_snapshot.hpp) against space.cast_ray ---------------------------
 namespace {
 
-// Forwards the EvaluationSpace API of a space but not bounds_keys()/for_each(), so the evaluator cannot snapshot it and
-// takes the space.cast_ray path with per-voxel lookups.
+// A VoxelSpace that forwards to another space but reports an empty bounds_keys(), so the evaluator cannot snapshot it
+// and takes the space.cast_ray path with per-voxel lookups.
 template <class Space>
 struct CastRayOnly {
   using State = typename Space::State;
+  std::shared_ptr<Space> own;
   const Space* s;
+  CastRayOnly(double resolution_m, const Aabb& box) : own(std::make_shared<Space>(resolution_m, box)), s(own.get()) {}
+  explicit CastRayOnly(const Space* space) : s(space) {}
+  IntegrationStats integrate(const Scan& scan) { return own->integrate(scan); }
   template <class V>
   RaycastResult cast_ray(const Ray& r, V&& v) const {
     return s->cast_ray(r, static_cast<V&&>(v));
   }
+  template <class F>
+  void for_each(F&& f) const {
+    s->for_each(static_cast<F&&>(f));
+  }
   [[nodiscard]] const auto& model() const { return s->model(); }
+  [[nodiscard]] State state(const VoxelKey& k) const { return s->state(k); }
+  [[nodiscard]] double probability(const VoxelKey& k) const { return s->probability(k); }
+  [[nodiscard]] double probability(const Vec3& x) const { return s->probability(x); }
+  [[nodiscard]] bool occupied(const VoxelKey& k) const { return s->occupied(k); }
   [[nodiscard]] bool observed(const VoxelKey& k) const { return s->observed(k); }
-  [[nodiscard]] const SurfaceFeatureMap& features() const { return s->features(); }
   [[nodiscard]] const VoxelGrid& grid() const { return s->grid(); }
+  [[nodiscard]] double resolution_m() const { return s->resolution_m(); }
+  [[nodiscard]] const Aabb& bounds() const { return s->bounds(); }
+  [[nodiscard]] const Aabb& voxel_bounds() const { return s->voxel_bounds(); }
+  [[nodiscard]] KeyBox bounds_keys() const { return {}; }
 };
 
 // Records every call (one thread only).
@@ -253,7 +270,21 @@ void check_same_visits(const Recorder::Log& a, const Recorder::Log& b) {
 
 // A ThesisModel space over keys 0..9 with the slab pattern of slab_space() plus a few voxels made occupied, some of
 // them with surface features.
+// The surface features of thesis_slab_space() (what a planner keeps beside its space).
+SurfaceFeatureMap& slab_features() {
+  static SurfaceFeatureMap features;
+  return features;
+}
+
+// nbs_test::threads(n) reading slab_features().
+EvaluationSetting ft(unsigned n) {
+  EvaluationSetting e = nbs_test::threads(n);
+  e.features = &slab_features();
+  return e;
+}
+
 ProbabilisticVoxelSpace<> thesis_slab_space() {
+  slab_features() = SurfaceFeatureMap{};
   Aabb box;
   box.min = Vec3::Zero();
   box.max = Vec3::Constant(0.0999);
@@ -273,7 +304,7 @@ ProbabilisticVoxelSpace<> thesis_slab_space() {
   int with_features = 0;
   space.for_each([&](const VoxelKey& k, const ThesisState& s) {
     if (space.model().occupied(s) && (k.y + k.z) % 2 == 0) {
-      space.features().set(k, f);
+      slab_features().set(k, f);
       ++with_features;
     }
   });
@@ -298,7 +329,7 @@ void check_snapshot_matches_cast_ray(const Space& space) {
   REQUIRE(detail::PlanningSnapshot<Space>(space).enabled());
   for (const RaySampling sampling : {RaySampling{1, 1}, RaySampling{2, 3}}) {
     Recorder::Log fast, slow;
-    EvaluationSetting es = nbs_test::threads(1);
+    EvaluationSetting es = ft(1);
     es.sampling = sampling;
     const auto rf = evaluate_candidates(cands, lsp, space, Recorder{&fast}, es);
     const auto rs = evaluate_candidates(cands, lsp, CastRayOnly<Space>{&space}, Recorder{&slow}, es);
@@ -320,7 +351,7 @@ TEST_CASE("the snapshot path feeds the same visits as space.cast_ray (log-odds a
     // Some recorded visits carry features, some hit, some are unobserved: the comparison covered every field.
     Recorder::Log log;
     auto lsp = small_lsp();
-    (void)evaluate_candidates(mixed_candidates(), lsp, space, Recorder{&log}, nbs_test::threads(1));
+    (void)evaluate_candidates(mixed_candidates(), lsp, space, Recorder{&log}, ft(1));
     std::size_t with_f = 0, hits = 0, unobserved = 0, repeats = 0;
     for (const auto& v : log.visits) {
       with_f += v.features != nullptr;
@@ -356,7 +387,7 @@ TEST_CASE("a term that ignores repeated visits gets exactly the first visits of 
   lsp.points_per_profile = 33;
   for (const RaySampling sampling : {RaySampling{1, 1}, RaySampling{2, 3}}) {
     Recorder::Log fast, slow;
-    EvaluationSetting es = nbs_test::threads(1);
+    EvaluationSetting es = ft(1);
     es.sampling = sampling;
     FirstOnlyRecorder f;
     f.log = &fast;
@@ -384,13 +415,13 @@ TEST_CASE("thesis terms give bit-identical values through the snapshot and throu
     ws.non_free_voxels = n_v;
     ws.omega = omega;
     const WeightedUtility term(ws);
-    const auto fast = evaluate_candidates(cands, lsp, space, term, nbs_test::threads(2));
-    const auto slow = evaluate_candidates(cands, lsp, Slow{&space}, term, nbs_test::threads(1));
+    const auto fast = evaluate_candidates(cands, lsp, space, term, ft(2));
+    const auto slow = evaluate_candidates(cands, lsp, Slow{&space}, term, ft(1));
     CHECK(fast.values == slow.values);
     CHECK(fast.best == slow.best);
   }
-  const auto oa = evaluate_candidates(cands, lsp, space, OcclusionAwareVI(), nbs_test::threads(3));
-  const auto oa_slow = evaluate_candidates(cands, lsp, Slow{&space}, OcclusionAwareVI(), nbs_test::threads(1));
+  const auto oa = evaluate_candidates(cands, lsp, space, OcclusionAwareVI(), ft(3));
+  const auto oa_slow = evaluate_candidates(cands, lsp, Slow{&space}, OcclusionAwareVI(), ft(1));
   CHECK(oa.values == oa_slow.values);
 }
 

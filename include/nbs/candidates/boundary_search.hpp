@@ -31,7 +31,7 @@ public:
 
   /// Candidates for the boundaries of the last scan. Throws InvalidArgument on an invalid context.
   /// Status: empty_mesh (no triangle), no_boundaries, all_rejected (no patch could be fitted), else ok.
-  template <EdgeMesh Mesh, PlanningSpace Space>
+  template <EdgeMesh Mesh, VoxelSpace Space>
   [[nodiscard]] CandidateSet generate(const PlanningContext<Mesh, Space>& ctx) const {
     if (auto empty = check_mesh(ctx)) return std::move(*empty);
     CandidateSet out;

@@ -16,7 +16,7 @@ namespace nbs {
 /// Models: BoundarySearch, HoleRescan, SphereSearch.
 template <class G, class Mesh, class Space>
 concept CandidateGenerator =
-    EdgeMesh<Mesh> && PlanningSpace<Space> && requires(const G& g, const PlanningContext<Mesh, Space>& ctx) {
+    EdgeMesh<Mesh> && VoxelSpace<Space> && requires(const G& g, const PlanningContext<Mesh, Space>& ctx) {
       { g.generate(ctx) } -> std::same_as<CandidateSet>;
     };
 

@@ -14,6 +14,7 @@
 
 #include "nbs/candidates/detail/replanning_box_overlap.hpp"
 #include "nbs/core/scan_path.hpp"
+#include "nbs/space/concepts.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 namespace nbs {
@@ -65,15 +66,6 @@ struct CollisionSetting {
   }
 };
 
-/// A voxel space the core checker can read: occupancy p per key, the keys of the bounding box of the unknown area
-/// and the key ↔ world mapping. ProbabilisticVoxelSpace (any backend) models it.
-template <class S>
-concept ObstacleVoxelSpace = requires(const S& s, const VoxelKey& k) {
-  { s.probability(k) } -> std::convertible_to<double>;
-  { s.bounds_keys() } -> std::same_as<KeyBox>;
-  { s.grid() } -> std::convertible_to<const VoxelGrid&>;
-};
-
 /// Core collision checker (Sec. 3.2.2): the sensor head box collides if it overlaps (touching counts)
 ///  - a voxel inside the bounding box of the unknown area with p > `obstacle_probability` (occupied *or unknown*:
 ///    an unknown voxel has p = 0.5; voxels outside that box are free), or
@@ -81,7 +73,7 @@ concept ObstacleVoxelSpace = requires(const S& s, const VoxelKey& k) {
 /// Holds a reference to the space: it must outlive the checker and not change while `collides` runs.
 /// Thread-safety: `collides` is const and may run concurrently. Cost: one p look-up per voxel of the head's world
 /// AABB (clipped to the bounds), an exact box test only for obstacle voxels; stops at the first collision.
-template <ObstacleVoxelSpace Space>
+template <VoxelSpace Space>
 class VoxelCollisionChecker {
 public:
   using Setting = CollisionSetting;

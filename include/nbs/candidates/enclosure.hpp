@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Enclosure test for the unseen-loop ĉ_m (ours, PlannerSetting::coverage_estimate = unseen_open): is a point walled
+/// Enclosure test for the unseen-loop ĉ_m (ours, UnseenLoopCoverage with the enclosure test, the form unseen_open): is a point walled
 /// in by measured surface? The fan of the border loop where an object stands on its support (Sec. 4.1: the object
 /// stands on the plane at the bottom of the box) lies inside the object, under its scanned shell; that loop is no
 /// missing surface a scan could add. The test samples 17 fixed directions, so an opening that none of them passes
@@ -35,11 +35,11 @@ namespace detail {
 }  // namespace detail
 
 /// True if every ray from `x` (world, m) of length `reach_m` along the 17 upward and horizontal directions of
-/// detail::upper_directions() meets an occupied voxel of `space` (PlanningSpace::cast_ray: unknown and free voxels
+/// detail::upper_directions() meets an occupied voxel of `space` (VoxelSpace::cast_ray: unknown and free voxels
 /// do not block; a ray that leaves the space is free). Stops at the first free ray. reach_m should span the space
 /// (e.g. its bounding-box diagonal). Cost: up to 17 ray casts of at most reach_m / resolution voxels each.
 /// Thread-safety: only reads `space`.
-template <PlanningSpace Space>
+template <VoxelSpace Space>
 [[nodiscard]] bool enclosed_by_surface(const Space& space, const Vec3& x, double reach_m) {
   for (const Vec3& d : detail::upper_directions())
     if (!space.cast_ray(Ray{x, x + reach_m * d}, detail::ContinueVisit{}).hit) return false;

@@ -64,7 +64,7 @@ public:
   using GeneratorWithSetting::GeneratorWithSetting;
 
   /// Status: empty_mesh, no_holes, all_rejected (every hole measured or occluded in every sampled direction), else ok.
-  template <EdgeMesh Mesh, PlanningSpace Space>
+  template <EdgeMesh Mesh, VoxelSpace Space>
   [[nodiscard]] CandidateSet generate(const PlanningContext<Mesh, Space>& ctx) const {
     if (auto empty = check_mesh(ctx)) return std::move(*empty);
     CandidateSet out;
@@ -93,7 +93,7 @@ public:
   }
 
   /// True if surface was measured at the hole (see HoleRescanSetting::skip_measured_holes).
-  template <PlanningSpace Space>
+  template <VoxelSpace Space>
   [[nodiscard]] bool measured(const Space& space, const Hole& hole) const {
     if (!has_frame(hole)) return false;
     const Vec3 d = setting_.measured_probe_voxels * space.resolution_m() * hole.normal.normalized();
@@ -101,7 +101,7 @@ public:
   }
 
   /// Alg. 2 for one hole: the selected occlusion-free view direction, or nullopt.
-  template <PlanningSpace Space>
+  template <VoxelSpace Space>
   [[nodiscard]] std::optional<Vec3> hole_direction(const Space& space, const Hole& hole, int samples, double d_s,
                                                    double offset_m) const {
     if (!has_frame(hole)) return std::nullopt;
@@ -120,7 +120,7 @@ private:
     return hole.center.allFinite() && hole.normal.allFinite() && hole.normal.norm() > 0.5;
   }
 
-  template <PlanningSpace Space>
+  template <VoxelSpace Space>
   [[nodiscard]] std::vector<std::vector<detail::HoleView>> group_views(const Space& space,
                                                                       const std::vector<detail::HoleView>& views,
                                                                       double d_s, double offset) const {

@@ -11,7 +11,7 @@
 #include "nbs/mesh/mesh_concept.hpp"
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
-#include "nbs/space/probabilistic_voxel_space.hpp"
+#include "nbs/space/concepts.hpp"
 
 namespace nbs {
 
@@ -48,28 +48,10 @@ struct SensorGeometry {
   }
 };
 
-namespace detail {
-/// Planning-ray visitor that never stops early (generic over key and state types).
-struct ContinueVisit {
-  template <class K, class S>
-  bool operator()(const K&, const S&) const {
-    return true;
-  }
-};
-}  // namespace detail
-
-/// A voxel space the generators can ray-cast in: `cast_ray(Ray, visit)` stops at the first occupied voxel and
-/// reports it in `.hit` (ProbabilisticVoxelSpace and its OctoMap instantiation model this).
-template <class S>
-concept PlanningSpace = requires(const S& s, const Ray& r, detail::ContinueVisit v) {
-  { s.cast_ray(r, v).hit } -> std::convertible_to<bool>;
-  { s.resolution_m() } -> std::convertible_to<double>;
-};
-
 /// Read-only planning context; holds references only, so it must not outlive its arguments. Cheap to copy.
 /// Frames: world (types.hpp). `last_sensor` is T_WS of the last scan's first profile (StreamingMesh::current_sensor);
 /// a line sensor then moved `last_path_length_m` along that pose's +s_y. Thread-safety: generators only read.
-template <EdgeMesh Mesh, PlanningSpace Space>
+template <EdgeMesh Mesh, VoxelSpace Space>
 struct PlanningContext {
   const Mesh& mesh;
   const Space& space;

@@ -144,7 +144,7 @@ struct ReplanReport {
 
 /// Fraction of `targets` visible from the path (see the file comment); 0 for no targets. Throws InvalidArgument
 /// if the sensor or setting is invalid or a target is not finite.
-template <PlanningSpace Space>
+template <VoxelSpace Space>
 [[nodiscard]] double visible_fraction(const Space& space, const LinearScanPath& path,
                                       std::span<const SurfaceTarget> targets, const SensorGeometry& sensor,
                                       const ReplanSetting& setting = {}) {
@@ -179,7 +179,7 @@ template <PlanningSpace Space>
 /// when dropped it is left as it was. `targets` must not be empty. Throws InvalidArgument (path unchanged) on an
 /// invalid setting or sensor, empty or non-finite targets, or an aim behind the sensor.
 /// Deterministic; thread-safe if the space and the checker are only read.
-template <PlanningSpace Space, CollisionChecker Checker>
+template <VoxelSpace Space, CollisionChecker Checker>
 [[nodiscard]] ReplanReport replan(LinearScanPath& path, const Vec3& aim, std::span<const SurfaceTarget> targets,
                                   const Space& space, const Checker& checker, const SensorGeometry& sensor,
                                   const ReplanSetting& setting = {}) {
@@ -219,7 +219,7 @@ template <PlanningSpace Space, CollisionChecker Checker>
 /// Alg. 3 on a ScanCandidate: pivot `aim.point`, targets `targets` (or `{aim}` if empty). After a rotation with
 /// β_x ≠ 0 the path still runs along the old s_y (in the s'_y–s'_z plane): the aim is at d_s along s'_z from the
 /// path point of its own parameter, but ScanCandidate's invariant (offset from s'_p¹ ∥ s'_y) holds only for β_x = 0.
-template <PlanningSpace Space, CollisionChecker Checker>
+template <VoxelSpace Space, CollisionChecker Checker>
 [[nodiscard]] ReplanReport replan(ScanCandidate& candidate, const Space& space, const Checker& checker,
                                   const SensorGeometry& sensor, const ReplanSetting& setting = {}) {
   const std::span<const SurfaceTarget> targets =
@@ -230,7 +230,7 @@ template <PlanningSpace Space, CollisionChecker Checker>
 
 /// Alg. 3 on every candidate (Sec. 4.5.2: before the NBS is selected): replans the accepted ones in place, erases
 /// the dropped ones (order of the rest kept) and returns one report per input candidate, in input order.
-template <PlanningSpace Space, CollisionChecker Checker>
+template <VoxelSpace Space, CollisionChecker Checker>
 [[nodiscard]] std::vector<ReplanReport> replan_candidates(std::vector<ScanCandidate>& candidates, const Space& space,
                                                           const Checker& checker, const SensorGeometry& sensor,
                                                           const ReplanSetting& setting = {}) {

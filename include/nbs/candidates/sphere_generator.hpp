@@ -14,9 +14,11 @@ namespace nbs {
 class SphereSearch : public detail::GeneratorWithSetting<SphereSearchSetting> {
 public:
   using GeneratorWithSetting::GeneratorWithSetting;
+  /// The candidates depend only on the unknown-area box: the planner generates them once (FixedCandidateSpace).
+  static constexpr bool kFixedCandidateSpace = true;
 
   /// Status: empty_unknown_area if ctx.unknown_area is empty, else ok (inclinations × azimuths candidates).
-  template <EdgeMesh Mesh, PlanningSpace Space>
+  template <EdgeMesh Mesh, VoxelSpace Space>
   [[nodiscard]] CandidateSet generate(const PlanningContext<Mesh, Space>& ctx) const {
     ctx.validate();
     setting_.validate();

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Surface features per voxel (Sec. 4.5.1): mean relative density d̄_i (Eq. 4.26), mean normal n̄_i (Eq. 4.27) and
-/// border-edge share b_i (Eq. 4.28), computed from the mesh and written into the voxel space's SurfaceFeatureMap.
+/// border-edge share b_i (Eq. 4.28), computed from the mesh into a SurfaceFeatureMap keyed by voxel (the planner's).
 /// A vertex belongs to the voxel containing it; an edge to the voxel containing its midpoint. Only vertices that
 /// belong to a triangle count.
 
@@ -13,7 +13,8 @@
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/mesh/density.hpp"
-#include "nbs/space/detail/key_slots.hpp"
+#include "nbs/space/concepts.hpp"
+#include "nbs/space/key_slots.hpp"
 #include "nbs/space/surface_features.hpp"
 #include "nbs/space/voxel_key.hpp"
 
@@ -22,7 +23,7 @@ namespace nbs {
 using SurfaceFeatureTable = std::unordered_map<VoxelKey, SurfaceFeatures, VoxelKeyHash>;
 
 /// Features of the voxels of `grid` that hold a mesh vertex; when `only` is non-null, just those voxels. O(V + F)
-/// with array lookups (detail::KeySlots over the key box of the wanted voxels); twin lookups only for the edges of
+/// with array lookups (KeySlots over the key box of the wanted voxels); twin lookups only for the edges of
 /// the wanted voxels. Sums run in ascending vertex order.
 template <DensityMesh M>
 [[nodiscard]] SurfaceFeatureTable compute_surface_features(const M& mesh, const VoxelGrid& grid,
@@ -51,7 +52,7 @@ template <DensityMesh M>
   if (only)
     for (const VoxelKey& k : *only) box.extend(k);
   constexpr std::int32_t kWanted = -2;  // a wanted voxel without a vertex yet
-  detail::KeySlots slot(box);
+  KeySlots slot(box);
   if (only)
     for (const VoxelKey& k : *only) slot.assign(k, kWanted);
   std::vector<Acc> acc;
@@ -59,7 +60,7 @@ template <DensityMesh M>
     if (!used[i]) continue;
     const VoxelKey& k = vkey[i];
     std::int32_t s = slot.find(k);
-    if (only && s == detail::KeySlots::kNone) continue;
+    if (only && s == KeySlots::kNone) continue;
     if (s < 0) {
       s = static_cast<std::int32_t>(acc.size());
       acc.push_back({k});
@@ -116,19 +117,13 @@ template <DensityMesh M>
   return out;
 }
 
-/// A voxel space that stores surface features (include/nbs/space): grid(), probability(key), features().set().
-template <class S>
-concept FeatureSpace = requires(S& s, const VoxelKey& k, const SurfaceFeatures& f) {
-  { s.grid() } -> std::convertible_to<const VoxelGrid&>;
-  { s.probability(k) } -> std::convertible_to<double>;
-  s.features().set(k, f);
-};
-
-/// Incremental update after a scan: recomputes the features of the voxels that hold a vertex of a face in M_cur
-/// and writes those with p ≥ params.occupied_threshold into `space`. Returns the number of voxels written.
-template <FeatureSpace S, DensityMesh M>
+/// Incremental update after a scan (Sec. 4.5.1): recomputes the features of the voxels that hold a vertex of a face
+/// in M_cur and writes those whose voxel in `space` has p ≥ params.occupied_threshold into `features` (the planner
+/// owns the map; the space is only read). Returns the number of voxels written.
+template <VoxelSpace S, DensityMesh M>
   requires TracksCurrentScan<M>
-std::size_t update_surface_features(S& space, const M& mesh, const Parameters& params) {
+std::size_t update_surface_features(SurfaceFeatureMap& features, const S& space, const M& mesh,
+                                    const Parameters& params) {
   params.validate();
   std::unordered_set<VoxelKey, VoxelKeyHash> touched;
   if constexpr (ListsCurrentFaces<M>) {  // the vertices of M_cur's edges are those of its faces
@@ -146,7 +141,7 @@ std::size_t update_surface_features(S& space, const M& mesh, const Parameters& p
   std::size_t written = 0;
   for (const auto& [k, f] : compute_surface_features(mesh, space.grid(), &touched)) {
     if (space.probability(k) < params.occupied_threshold) continue;
-    space.features().set(k, f);
+    features.set(k, f);
     ++written;
   }
   return written;

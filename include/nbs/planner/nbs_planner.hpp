@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "nbs/candidates/enclosure.hpp"
+#include "nbs/coverage/coverage_estimator.hpp"
 #include "nbs/planner/detail/components.hpp"
 #include "nbs/planner/detail/planner_parts.hpp"
 #include "nbs/planner/planner_types.hpp"
@@ -27,18 +27,11 @@
 
 namespace nbs {
 
-/// A voxel space the planner can own: integrate scans, ray-cast for generators, replanning and utilities, and
-/// store surface features. ProbabilisticVoxelSpace models it.
-template <class S>
-concept PlannerSpace = PlanningSpace<S> && EvaluationSpace<S> && FeatureSpace<S> &&
-                       requires(S& s, const Scan& scan, const Vec3& x) {
-                         s.integrate(scan);
-                         { std::as_const(s).probability(x) } -> std::convertible_to<double>;
-                       };
-
 /// A mesh the planner can own: an EdgeMesh with relative density (d̄_m), current-scan tracking (M_cur) and
-/// `integrate(scan)` returning the number of meshed points, built as Mesh(params, unknown_area) (pass-through box).
-/// StreamingMesh models it.
+/// `integrate(scan)` returning the number of meshed points, built as Mesh(params, unknown_area) (pass-through box):
+/// the mesh type chooses its own settings (StreamingMesh: the thesis's Sec. 3.3.1; NoiseRobustStreamingMesh: the
+/// noise-robust options). A mesh constructible from a settings object can also be given one
+/// (NbsPlanner(params, sensor, box, setting, mesh_settings)).
 template <class M>
 concept PlannerMesh = DensityMesh<M> && TracksCurrentScan<M> && std::constructible_from<M, const Parameters&, const Aabb&> &&
                       requires(M& m, const Scan& scan) {
@@ -51,21 +44,36 @@ concept PlannerSensor = CandidateRaySensor<S> && requires(const S& s) {
   { SensorGeometry::of(s) } -> std::same_as<SensorGeometry>;
 };
 
-/// The composed Next-Best-Scan planner. Policies (defaults = the thesis's best method C_H, Tab. 4.5):
-/// - `Space`: voxel space owned by the planner (PlannerSpace);
-/// - `Mesh`: surface mesh owned by the planner (PlannerMesh; StreamingMesh, the thesis's Sec. 3.3.1, or
-///   NoiseRobustStreamingMesh);
-/// - `Search`: CandidateSearch<Explore, Rescan> (public member `search`);
+/// A collision checker that snapshots the voxel space and must see each new scan: `c.update(space)` (e.g.
+/// nbs::fcl::FclCollisionChecker). The planner calls it after every integrated scan.
+template <class C, class Space>
+concept SpaceTrackingCollisionChecker = CollisionChecker<C> && requires(C& c, const Space& s) { c.update(s); };
+
+/// Every policy of NbsPlanner, checked once at the class (each concept names what its policy lacks).
+template <class Utility, class Search, class Sensor, class Collision, class Termination, class Space, class Mesh,
+          class Coverage>
+concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&
+                          UtilityPolicy<Utility, Space, Sensor> && TerminationCriterion<Termination> &&
+                          CollisionChecker<Collision> && PlannerSensor<Sensor> &&
+                          CoverageEstimator<Coverage, Mesh, Space>;
+
+/// The composed Next-Best-Scan planner. Policies, in the order users change them (defaults = the thesis's best
+/// method C_H, Tab. 4.5, with nbs's noise-robust mesh and ĉ_m):
 /// - `Utility`: UtilityPolicy (public member `utility`, with a `setting`);
+/// - `Search`: CandidateSearch<Explore, Rescan> (public member `search`);
+/// - `Sensor`: LaserStripeProfiler or AreaSensor (PlannerSensor);
+/// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7;
+///   a SpaceTrackingCollisionChecker is updated after every scan);
 /// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m and d̄_m reached, or n_abort);
-/// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7);
-/// - `Sensor`: LaserStripeProfiler (or AreaSensor).
-template <class Space = ProbabilisticVoxelSpace<>, class Mesh = StreamingMesh, class Search = BoundaryHoleSpace,
-          class Utility = IgQualityUtility, class Termination = DefaultTermination, class Collision = NoCollisions,
-          class Sensor = LaserStripeProfiler>
-  requires PlannerSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&
-           UtilityPolicy<Utility, Space, Sensor> && TerminationCriterion<Termination> &&
-           CollisionChecker<Collision> && PlannerSensor<Sensor>
+/// - `Space`: voxel space owned by the planner (VoxelSpace, space/concepts.hpp);
+/// - `Mesh`: surface mesh owned by the planner (PlannerMesh; NoiseRobustStreamingMesh, or StreamingMesh for the
+///   thesis's Sec. 3.3.1);
+/// - `Coverage`: the ĉ_m form (CoverageEstimator, public member `coverage`; ThesisCoverage for Eq. 4.35 as written).
+template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler,
+          class Collision = NoCollisions, class Termination = DefaultTermination,
+          class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh,
+          class Coverage = UnseenLoopCoverage>
+  requires PlannerPolicies<Utility, Search, Sensor, Collision, Termination, Space, Mesh, Coverage>
 class NbsPlanner {
 public:
   using SpaceType = Space;
@@ -73,6 +81,7 @@ public:
   using SearchType = Search;
   using UtilityType = Utility;
   using SensorType = Sensor;
+  using CoverageType = Coverage;
   using Setting = PlannerSetting;
 
 private:
@@ -87,37 +96,141 @@ private:
 
 public:
   /// Builds empty models over the bounding box of the unknown area `unknown_area` (world, metres; Sec. 4.1: it
-  /// must contain the whole object, its bottom on the pedestal plane). Throws InvalidArgument (naming the field)
-  /// for invalid parameters, sensor, box or setting.
+  /// must contain the whole object, its bottom on the pedestal plane); the mesh as Mesh(params, unknown_area).
+  /// Throws InvalidArgument (naming the field) for invalid parameters, sensor, box or setting.
   NbsPlanner(const Parameters& params, const Sensor& sensor, const Aabb& unknown_area, const Setting& setting = {})
-      : params_((params.validate(), params)),
-        sensor_((sensor.validate(), sensor)),
-        geometry_(SensorGeometry::of(sensor)),
-        box_((detail::require_unknown_area(unknown_area), unknown_area)),
-        setting_(checked(setting, geometry_)),
-        space_(detail::make_planner_space<Space>(params_, box_, sensor_)),
-        mesh_(detail::make_planner_mesh<Mesh>(params_, box_, setting_.noise_robust_mesh)),
-        termination(detail::make_termination<Termination>(params_)),
-        collision(detail::make_collision<Collision>(*space_)),
-        control_(params_.mode_switch_gain) {}
+      : NbsPlanner(MeshFactory{}, params, sensor, unknown_area, setting, [](const Parameters& p, const Aabb& box) {
+          return std::make_unique<Mesh>(p, box);
+        }) {}
+  /// Same, with the mesh built as Mesh(mesh_settings) (e.g. StreamingMeshSettings; its pass-through box should be
+  /// the unknown area, as StreamingMeshSettings::from(params, unknown_area) sets it).
+  template <class MeshSettings>
+    requires std::constructible_from<Mesh, const MeshSettings&>
+  NbsPlanner(const Parameters& params, const Sensor& sensor, const Aabb& unknown_area, const Setting& setting,
+             const MeshSettings& mesh_settings)
+      : NbsPlanner(MeshFactory{}, params, sensor, unknown_area, setting,
+                   [&](const Parameters&, const Aabb&) { return std::make_unique<Mesh>(mesh_settings); }) {}
 
   // ---- Policies (public, each with its own Setting) ---------------------------------------------------------------
   Search search{};
   Utility utility{};
   Termination termination;
   Collision collision;
+  Coverage coverage{};
 
   // ---- The loop ----------------------------------------------------------------------------------------------------
   /// Integrates one scan (Fig. 4.1): voxel space, mesh, surface features of the voxels touched by M_cur (Sec. 4.5.1),
-  /// ĉ_m (Eq. 4.35), d̄_m, process control (Eq. 4.38). Counts the scan (n_s) even if none of its points lies inside
-  /// the bounding box of the unknown area (status says so; the models are then unchanged). Throws InvalidArgument
-  /// (nothing changed) for an invalid scan.
-  IntegrationReport integrate(const Scan& scan);
+  /// ĉ_m (the Coverage policy, Eq. 4.35), d̄_m, process control (Eq. 4.38). Counts the scan (n_s) even if none of its
+  /// points lies inside the bounding box of the unknown area (status says so; the models are then unchanged). Throws
+  /// InvalidArgument (nothing changed) for an invalid scan.
+  IntegrationReport integrate(const Scan& scan) {
+    const auto t0 = std::chrono::steady_clock::now();
+    scan.validate();
+    IntegrationReport r;
+    r.points = scan.size();
+    for (const Vec3& p : scan.points) r.points_inside += box_.contains(p) ? 1 : 0;
+    ++scans_;
+    if (scan.empty()) {
+      r.status = IntegrationStatus::empty_scan;
+    } else if (r.points_inside == 0) {
+      r.status = IntegrationStatus::outside_unknown_area;
+    } else {
+      auto lap = [t = std::chrono::steady_clock::now()]() mutable {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - t).count();
+        t = now;
+        return s;
+      };
+      r.space = space_->integrate(scan);
+      r.t_space_s = lap();
+      r.meshed = mesh_->integrate(scan);
+      r.t_mesh_s = lap();
+      r.features_written = update_surface_features(features_, *space_, *mesh_, params_);
+      r.t_features_s = lap();
+      if constexpr (SpaceTrackingCollisionChecker<Collision, Space>) collision.update(*space_);
+      last_sensor_ = scan.profile_poses.front();
+      last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
+      const CoverageResult cov = coverage.estimate(CoverageInput<Mesh, Space>{*mesh_, *space_, params_, box_});
+      r.holes = cov.holes;
+      coverage_ = cov.coverage;
+      density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
+      r.t_coverage_s = lap();
+    }
+    // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.
+    const SearchMode proposed = control_.update(coverage_);
+    if constexpr (Search::kHasRescan) {
+      if (proposed == SearchMode::HoleRescan && mode_ == SearchMode::BoundarySearch) {
+        mode_ = SearchMode::HoleRescan;
+        rescan_pending_ = true;
+        r.switched = true;
+      }
+    }
+    r.scans = scans_;
+    r.estimated_coverage = coverage_;
+    r.mean_density = density_;
+    r.mode = mode_;
+    r.done = done();
+    r.t_integrate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
 
   /// Plans the next best scan (see PlanStatus): generates candidates for the current mode, replans them with
   /// Alg. 3, adds them to the candidate set S, scores S with the utility and removes and returns the best. Never
   /// returns `ok` without a path.
-  [[nodiscard]] PlanResult next_best_scan();
+  [[nodiscard]] PlanResult next_best_scan() {
+    const auto t0 = std::chrono::steady_clock::now();
+    PlanResult out;
+    IterationStats& st = out.stats;
+    st.scans = scans_;
+    st.estimated_coverage = coverage_;
+    st.mean_density = density_;
+    const auto finish = [&](PlanStatus s) {
+      out.status = s;
+      st.mode = mode_;
+      st.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      last_stats_ = st;
+      return out;
+    };
+    if (done()) return finish(PlanStatus::done);
+    if (mesh_->face_count() == 0) return finish(PlanStatus::nothing_seen_yet);
+
+    if (mode_ == SearchMode::BoundarySearch || setting_.keep_exploring) {
+      using Explore = typename Search::ExploreGenerator;
+      if (!FixedCandidateSpace<Explore> || !fixed_space_generated_) {
+        generate_into_pool(search.explore, st);
+        fixed_space_generated_ = true;
+      }
+      if constexpr (Search::kHasRescan) {
+        if (mode_ == SearchMode::BoundarySearch && pool_.empty() && setting_.rescan_when_explore_empty) {
+          mode_ = SearchMode::HoleRescan;
+          rescan_pending_ = true;
+        }
+      }
+    }
+    if constexpr (Search::kHasRescan) {
+      if (mode_ == SearchMode::HoleRescan && (rescan_pending_ || (pool_.empty() && setting_.redetect_holes))) {
+        if (!setting_.keep_exploring) pool_.clear();  // Sec. 4.4: the remaining Boundary Search candidates go
+        generate_into_pool(search.rescan, st);
+        rescan_pending_ = false;
+        control_.mark_holes_detected();
+      }
+    }
+    if (pool_.empty()) return finish(PlanStatus::no_candidates);
+
+    const auto te = std::chrono::steady_clock::now();
+    std::vector<LinearScanPath> paths;
+    paths.reserve(pool_.size());
+    for (const ScanCandidate& c : pool_) paths.push_back(c.path);
+    const EvaluationResult res = utility.evaluate(std::span<const LinearScanPath>(paths), sensor_, *space_,
+                                                  utility_context(), evaluation_setting());
+    st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
+    st.evaluated = pool_.size();
+    if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
+    st.best_utility = res.values[res.best];
+    out.candidate = std::move(pool_[res.best]);
+    pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(res.best));
+    return finish(PlanStatus::ok);
+  }
 
   /// True when the termination criterion holds for (n_s, ĉ_m, d̄_m).
   [[nodiscard]] bool done() const { return termination.done(progress()); }
@@ -134,31 +247,33 @@ public:
   [[nodiscard]] ModelProgress progress() const { return {scans_, coverage_, density_}; }
   [[nodiscard]] int scans() const { return scans_; }
   [[nodiscard]] double estimated_coverage() const { return coverage_; }
-  /// The `seen(x)` predicate of the unseen-loop ĉ_m forms (surface_seen over the planner's space, rays spanning the
-  /// unknown-area box, the enclosure test with CoverageEstimate::unseen_open), e.g. to recompute ĉ_m from mesh().
-  [[nodiscard]] auto coverage_seen() const {
-    return surface_seen(*space_, params_.occupied_threshold, (box_.max - box_.min).norm(),
-                        setting_.coverage_estimate == CoverageEstimate::unseen_open);
-  }
   [[nodiscard]] double mean_density() const { return density_; }
   [[nodiscard]] SearchMode mode() const { return mode_; }
   [[nodiscard]] const std::vector<ScanCandidate>& candidate_set() const { return pool_; }
   [[nodiscard]] const IterationStats& last_stats() const { return last_stats_; }
   [[nodiscard]] const Space& space() const { return *space_; }
+  /// Surface features d̄_i, n̄_i, b_i per voxel (Sec. 4.5.1), computed from the mesh after each scan (M_cur's voxels
+  /// with p ≥ params.occupied_threshold); the utility reads them.
+  [[nodiscard]] const SurfaceFeatureMap& features() const { return features_; }
   [[nodiscard]] const Mesh& mesh() const { return *mesh_; }
   [[nodiscard]] const Parameters& params() const { return params_; }
   [[nodiscard]] const Sensor& sensor() const { return sensor_; }
   [[nodiscard]] const SensorGeometry& sensor_geometry() const { return geometry_; }
   [[nodiscard]] const Aabb& unknown_area() const { return box_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
-  /// Replaces the setting (validated first; throws InvalidArgument, nothing changed). noise_robust_mesh must stay as
-  /// built: the mesh exists.
-  void set_setting(const Setting& s) {
-    detail::require(s.noise_robust_mesh == setting_.noise_robust_mesh,
-                    "PlannerSetting.noise_robust_mesh cannot change after construction (the mesh is built), got ",
-                    s.noise_robust_mesh);
-    setting_ = checked(s, geometry_);
+  /// What next_best_scan() scores S with: the UtilityContext of this step (n_s, the per-step seed of Random,
+  /// parameters) and the EvaluationSetting (threads, sampling, coarse-to-fine, the surface features). Use both to
+  /// score other paths exactly as the planner would.
+  [[nodiscard]] UtilityContext utility_context() const {
+    return {scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))), &params_};
   }
+  [[nodiscard]] EvaluationSetting evaluation_setting() const {
+    EvaluationSetting eval{setting_.threads, setting_.sampling, setting_.refine};
+    eval.features = &features_;
+    return eval;
+  }
+  /// Replaces the setting (validated first; throws InvalidArgument, nothing changed).
+  void set_setting(const Setting& s) { setting_ = checked(s, geometry_); }
   /// d_s in metres.
   [[nodiscard]] double standoff() const { return setting_.standoff_m > 0.0 ? setting_.standoff_m : geometry_.mid_range_m(); }
 
@@ -174,11 +289,53 @@ private:
     return {*mesh_, *space_, params_, last_sensor_, last_path_length_, geometry_, box_, setting_.standoff_m,
             setting_.threads};
   }
-  /// Runs Alg. 3 on `fresh` (if enabled), counts, and appends the accepted candidates to S.
-  void admit(std::vector<ScanCandidate> fresh, IterationStats& st);
-  template <class Generator>
-  void generate_into_pool(const Generator& g, IterationStats& st);
+  struct MeshFactory {};  // tag of the constructor every public one delegates to
+  template <class MakeMesh>
+  NbsPlanner(MeshFactory, const Parameters& params, const Sensor& sensor, const Aabb& unknown_area,
+             const Setting& setting, MakeMesh&& make_mesh)
+      : params_((params.validate(), params)),
+        sensor_((sensor.validate(), sensor)),
+        geometry_(SensorGeometry::of(sensor)),
+        box_((detail::require_unknown_area(unknown_area), unknown_area)),
+        setting_(checked(setting, geometry_)),
+        space_(detail::make_planner_space<Space>(params_, box_, sensor_)),
+        mesh_(make_mesh(params_, box_)),
+        termination(detail::make_termination<Termination>(params_)),
+        collision(detail::make_collision<Collision>(*space_)),
+        control_(params_.mode_switch_gain) {}
 
+  /// Runs Alg. 3 on `fresh` (if enabled), counts, and appends the accepted candidates to S.
+  void admit(std::vector<ScanCandidate> fresh, IterationStats& st) {
+    st.generated += fresh.size();
+    ReplanSetting rs = setting_.replan;
+    rs.incidence_cutoff_rad = params_.incidence_cutoff_rad;
+    rs.support_plane_z_m = box_.min.z();  // Sec. 4.1: the object stands on the plane at the bottom of the box
+    if (!setting_.replan_candidates) {
+      const auto below = [&](const ScanCandidate& c) { return !rs.above_support(c.path); };
+      st.dropped += static_cast<std::size_t>(std::ranges::count_if(fresh, below));
+      std::erase_if(fresh, below);
+    } else if (!fresh.empty()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::vector<ReplanReport> reports = replan_candidates(fresh, *space_, collision, geometry_, rs);
+      for (const ReplanReport& rep : reports) {
+        st.replanned += rep.outcome == ReplanOutcome::rotated ? 1 : 0;
+        st.dropped += rep.accepted() ? 0 : 1;
+      }
+      st.t_replan_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    for (ScanCandidate& c : fresh) pool_.push_back(std::move(c));
+  }
+
+  template <class Generator>
+  void generate_into_pool(const Generator& g, IterationStats& st) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CandidateSet set = g.generate(context());
+    st.generator_status = set.status;
+    st.t_generate_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    admit(std::move(set.candidates), st);
+  }
+
+  SurfaceFeatureMap features_;
   ProcessControl control_;
   SearchMode mode_ = SearchMode::BoundarySearch;
   bool rescan_pending_ = false;
@@ -192,162 +349,10 @@ private:
   IterationStats last_stats_{};
 };
 
-// ---- Implementation ------------------------------------------------------------------------------------------------
-
-template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
-  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
-           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
-IntegrationReport NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::integrate(const Scan& scan) {
-  const auto t0 = std::chrono::steady_clock::now();
-  scan.validate();
-  IntegrationReport r;
-  r.points = scan.size();
-  for (const Vec3& p : scan.points) r.points_inside += box_.contains(p) ? 1 : 0;
-  ++scans_;
-  if (scan.empty()) {
-    r.status = IntegrationStatus::empty_scan;
-  } else if (r.points_inside == 0) {
-    r.status = IntegrationStatus::outside_unknown_area;
-  } else {
-    auto lap = [t = std::chrono::steady_clock::now()]() mutable {
-      const auto now = std::chrono::steady_clock::now();
-      const double s = std::chrono::duration<double>(now - t).count();
-      t = now;
-      return s;
-    };
-    r.space = space_->integrate(scan);
-    r.t_space_s = lap();
-    r.meshed = mesh_->integrate(scan);
-    r.t_mesh_s = lap();
-    r.features_written = update_surface_features(*space_, *mesh_, params_);
-    r.t_features_s = lap();
-    last_sensor_ = scan.profile_poses.front();
-    last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
-    if (setting_.coverage_estimate == CoverageEstimate::thesis) {
-      const std::vector<Hole> holes = find_holes(*mesh_, params_);
-      r.holes = holes.size();
-      coverage_ = std::clamp(nbs::estimated_coverage(*mesh_, holes), 0.0, 1.0);
-    } else {
-      const std::vector<Hole> loops = find_all_loops(*mesh_, params_);
-      r.holes = static_cast<std::size_t>(std::ranges::count_if(
-          loops, [&](const Hole& h) { return static_cast<int>(h.vertices.size()) <= params_.hole_max_edges; }));
-      coverage_ = std::clamp(nbs::estimated_coverage_unseen(*mesh_, loops, coverage_seen()), 0.0, 1.0);
-    }
-    density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
-    r.t_coverage_s = lap();
-  }
-  // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.
-  const SearchMode proposed = control_.update(coverage_);
-  if constexpr (Se::kHasRescan) {
-    if (proposed == SearchMode::HoleRescan && mode_ == SearchMode::BoundarySearch) {
-      mode_ = SearchMode::HoleRescan;
-      rescan_pending_ = true;
-      r.switched = true;
-    }
-  }
-  r.scans = scans_;
-  r.estimated_coverage = coverage_;
-  r.mean_density = density_;
-  r.mode = mode_;
-  r.done = done();
-  r.t_integrate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return r;
-}
-
-template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
-  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
-           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
-void NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::admit(std::vector<ScanCandidate> fresh, IterationStats& st) {
-  st.generated += fresh.size();
-  ReplanSetting rs = setting_.replan;
-  rs.incidence_cutoff_rad = params_.incidence_cutoff_rad;
-  rs.support_plane_z_m = box_.min.z();  // Sec. 4.1: the object stands on the plane at the bottom of the box
-  if (!setting_.replan_candidates) {
-    const auto below = [&](const ScanCandidate& c) { return !rs.above_support(c.path); };
-    st.dropped += static_cast<std::size_t>(std::ranges::count_if(fresh, below));
-    std::erase_if(fresh, below);
-  } else if (!fresh.empty()) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<ReplanReport> reports = replan_candidates(fresh, *space_, collision, geometry_, rs);
-    for (const ReplanReport& rep : reports) {
-      st.replanned += rep.outcome == ReplanOutcome::rotated ? 1 : 0;
-      st.dropped += rep.accepted() ? 0 : 1;
-    }
-    st.t_replan_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  for (ScanCandidate& c : fresh) pool_.push_back(std::move(c));
-}
-
-template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
-  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
-           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
-template <class Generator>
-void NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::generate_into_pool(const Generator& g, IterationStats& st) {
-  const auto t0 = std::chrono::steady_clock::now();
-  CandidateSet set = g.generate(context());
-  st.generator_status = set.status;
-  st.t_generate_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  admit(std::move(set.candidates), st);
-}
-
-template <class Sp, class Me, class Se, class Ut, class Te, class Co, class Sn>
-  requires PlannerSpace<Sp> && PlannerMesh<Me> && CandidateSearchPolicy<Se, Me, Sp> && UtilityPolicy<Ut, Sp, Sn> &&
-           TerminationCriterion<Te> && CollisionChecker<Co> && PlannerSensor<Sn>
-PlanResult NbsPlanner<Sp, Me, Se, Ut, Te, Co, Sn>::next_best_scan() {
-  const auto t0 = std::chrono::steady_clock::now();
-  PlanResult out;
-  IterationStats& st = out.stats;
-  st.scans = scans_;
-  st.estimated_coverage = coverage_;
-  st.mean_density = density_;
-  const auto finish = [&](PlanStatus s) {
-    out.status = s;
-    st.mode = mode_;
-    st.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    last_stats_ = st;
-    return out;
-  };
-  if (done()) return finish(PlanStatus::done);
-  if (mesh_->face_count() == 0) return finish(PlanStatus::nothing_seen_yet);
-
-  if (mode_ == SearchMode::BoundarySearch || setting_.keep_exploring) {
-    using Explore = typename Se::ExploreGenerator;
-    if (!kFixedCandidateSpace<Explore> || !fixed_space_generated_) {
-      generate_into_pool(search.explore, st);
-      fixed_space_generated_ = true;
-    }
-    if constexpr (Se::kHasRescan) {
-      if (mode_ == SearchMode::BoundarySearch && pool_.empty() && setting_.rescan_when_explore_empty) {
-        mode_ = SearchMode::HoleRescan;
-        rescan_pending_ = true;
-      }
-    }
-  }
-  if constexpr (Se::kHasRescan) {
-    if (mode_ == SearchMode::HoleRescan && (rescan_pending_ || (pool_.empty() && setting_.redetect_holes))) {
-      if (!setting_.keep_exploring) pool_.clear();  // Sec. 4.4: the remaining Boundary Search candidates go
-      generate_into_pool(search.rescan, st);
-      rescan_pending_ = false;
-      control_.mark_holes_detected();
-    }
-  }
-  if (pool_.empty()) return finish(PlanStatus::no_candidates);
-
-  const auto te = std::chrono::steady_clock::now();
-  std::vector<LinearScanPath> paths;
-  paths.reserve(pool_.size());
-  for (const ScanCandidate& c : pool_) paths.push_back(c.path);
-  const UtilityContext uctx{scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))),
-                            &params_};
-  const EvaluationSetting eval{setting_.threads, setting_.sampling, setting_.refine};
-  const EvaluationResult res = utility.evaluate(std::span<const LinearScanPath>(paths), sensor_, *space_, uctx, eval);
-  st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
-  st.evaluated = pool_.size();
-  if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
-  st.best_utility = res.values[res.best];
-  out.candidate = std::move(pool_[res.best]);
-  pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(res.best));
-  return finish(PlanStatus::ok);
-}
+/// C_H (or another utility / search / sensor) with the thesis's mesh and ĉ_m as written (Secs. 3.3.1, 4.4):
+/// StreamingMesh and ThesisCoverage. Use both together: the unseen-loop forms are meaningless on the layered mesh.
+template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler>
+using ThesisMeshPlanner = NbsPlanner<Utility, Search, Sensor, NoCollisions, DefaultTermination,
+                                     ProbabilisticVoxelSpace<>, StreamingMesh, ThesisCoverage>;
 
 }  // namespace nbs

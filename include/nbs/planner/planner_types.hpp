@@ -103,9 +103,6 @@ struct PlanResult {
   }
 };
 
-/// Which form of ĉ_m the planner computes (PlannerSetting::coverage_estimate).
-enum class CoverageEstimate : std::uint8_t { thesis, unseen_loops, unseen_open };
-
 /// Run-time knobs of NbsPlanner that are not thesis parameters (those are in Parameters).
 struct PlannerSetting {
   unsigned threads = 1;            ///< candidate evaluation threads (≥ 1); results identical for any count
@@ -125,40 +122,12 @@ struct PlannerSetting {
   /// Rescan alone then gains little (nbs_diagnose: best hole candidate ≤ 5.2k new samples vs ≥ 38k for the best
   /// boundary candidate at the same step).
   bool keep_exploring = true;
-  /// How ĉ_m (Eq. 4.35) counts A_empty (ours, except `thesis`; docs/evaluation.md compares them):
-  /// - `unseen_open` (default): every closed border loop, each weighted by the share of its Eq. 4.37 fan samples
-  ///   that are neither measured surface in the voxel space (p > occupied_threshold) nor walled in by it
-  ///   (enclosed_by_surface: every upward and horizontal ray meets an occupied voxel). The loop where the object
-  ///   stands on its support has its fan inside the object, under the scanned shell: no scan can add that surface.
-  /// - `unseen_loops`: the same without the enclosure test; that contact loop then keeps ĉ_m low (bunny, C_H, 20
-  ///   runs: ĉ_m 0.735 at c_a = 98.1 % of c_obs after 10 scans, median n_s 14).
-  /// - `thesis`: the loops with h_min..h_max edges, unweighted (estimated_coverage); with the noise-robust mesh it
-  ///   never reaches 0.8 on the bunny (one layer leaves few small loops), so use it with `noise_robust_mesh = false`.
-  /// The unseen forms are made for the noise-robust mesh.
-  CoverageEstimate coverage_estimate = CoverageEstimate::unseen_open;
-  /// Builds a planner's StreamingMesh policy noise-robust (default; density_depth_m = R_n and project_vertices, as
-  /// NoiseRobustStreamingMesh): one layer of vertices under range noise instead of a slab, half the vertices, vertex
-  /// RMS error 0.66 mm instead of 1.07 mm on the bunny, ≈ 2.6–2.9× the points per second, ≈ 5× faster evaluation
-  /// runs.
-  /// false: the thesis's stream as written (Sec. 3.3.1); pair it with coverage_estimate = thesis (thesis_mesh()).
-  /// Mesh policies other than StreamingMesh build themselves from (Parameters, box) and ignore it. Fixed at
-  /// construction (set_setting refuses to change it).
-  bool noise_robust_mesh = true;
   /// Coarse-to-fine evaluation of S (our addition to Sec. 4.5.3, see CoarseToFine): all candidates are scored with
   /// `sampling` strides × coarse_factor, the refine_top best again with `sampling`. Default {4, 32}: every 16th
   /// profile / ray first, then the 32 best with every 4th (≈ 1/16 + 32/|S| of the single-pass cost). bench_planner
   /// NBS_BENCH_REFINE_STUDY (seed 1, 13 steps, |S| up to 419): {4, 32} picked the single-pass candidate in 13 of 13
   /// steps; {4, 16} in 9 of 13, its worst pick within 1.6 % of the best single-pass value. {1, k} turns it off.
   CoarseToFine refine{4, 32};
-
-  /// The thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4): noise_robust_mesh = false, coverage_estimate = thesis; the rest
-  /// as `s`. Set both together: the unseen-loop forms are meaningless on the layered thesis mesh.
-  [[nodiscard]] static PlannerSetting thesis_mesh(PlannerSetting s) {
-    s.noise_robust_mesh = false;
-    s.coverage_estimate = CoverageEstimate::thesis;
-    return s;
-  }
-  [[nodiscard]] static PlannerSetting thesis_mesh() { return thesis_mesh(PlannerSetting{}); }
 
   /// Throws InvalidArgument naming the bad field.
   void validate() const {

@@ -12,10 +12,13 @@ namespace nbs {
 /// "No second mode": the planner never switches from the explore generator.
 struct NoRescan {};
 
-/// True for generators whose candidates do not depend on the model (the sphere baseline, Sec. 4.7.2): the planner
-/// generates them once, before the first planning step, and consumes them. Specialise for your own fixed spaces.
+/// A generator whose candidates do not depend on the model (the sphere baseline, Sec. 4.7.2) declares it with
+/// `static constexpr bool kFixedCandidateSpace = true;`: the planner generates them once, before the first planning
+/// step, and consumes them.
 template <class G>
-inline constexpr bool kFixedCandidateSpace = std::is_same_v<G, SphereSearch>;
+concept FixedCandidateSpace = requires {
+  requires G::kFixedCandidateSpace;
+};
 
 /// Candidate search: `explore` in the first mode, `rescan` after the switch of Sec. 4.6 (unless `Rescan` is
 /// NoRescan). Each generator is a public member with its own `Setting` (e.g. `search.explore.setting()`).

@@ -18,53 +18,21 @@
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan.hpp"
 #include "nbs/space/backend.hpp"
+#include "nbs/space/concepts.hpp"
 #include "nbs/space/detail/block_walk.hpp"
 #include "nbs/space/hashed_block_backend.hpp"
-#include "nbs/space/surface_features.hpp"
+#include "nbs/space/ray_cast.hpp"
+#include "nbs/space/space_types.hpp"
 #include "nbs/space/thesis_model.hpp"
+#include "nbs/space/unknown_area_grid.hpp"
 #include "nbs/space/update_model.hpp"
 
 namespace nbs {
 
-/// What `integrate` did with a scan. Counts add up: points = integrated + rejected_*.
-struct IntegrationStats {
-  std::uint64_t points = 0;                   ///< points in the scan(s)
-  std::uint64_t integrated = 0;               ///< beams used
-  std::uint64_t rejected_zero_length = 0;     ///< end point == sensor origin
-  std::uint64_t rejected_outside_bounds = 0;  ///< end point outside the bounding box of the unknown area (clipped)
-  std::uint64_t rejected_model = 0;           ///< the model refused the beam (e.g. σ(d) not finite and > 0)
-  std::uint64_t voxel_updates = 0;            ///< voxel states changed
-  std::uint64_t voxels_same_scan = 0;         ///< skipped: voxel already updated in this scan
-  std::uint64_t voxels_similar_beam = 0;      ///< skipped: a similar beam was integrated there before (Sec. 3.3.2)
-
-  IntegrationStats& operator+=(const IntegrationStats& o) {
-    points += o.points;
-    integrated += o.integrated;
-    rejected_zero_length += o.rejected_zero_length;
-    rejected_outside_bounds += o.rejected_outside_bounds;
-    rejected_model += o.rejected_model;
-    voxel_updates += o.voxel_updates;
-    voxels_same_scan += o.voxels_same_scan;
-    voxels_similar_beam += o.voxels_similar_beam;
-    return *this;
-  }
-};
-
-/// A planning ray from `origin` to `end`, world metres.
-struct Ray {
-  Vec3 origin = Vec3::Zero();
-  Vec3 end = Vec3::Zero();
-};
-
-/// Outcome of one planning ray cast.
-struct RaycastResult {
-  bool hit = false;           ///< stopped at an occupied voxel
-  VoxelKey hit_key{};         ///< that voxel (valid if hit)
-  std::uint32_t voxels = 0;   ///< voxels visited (the callback was called this often)
-};
-
-/// The probabilistic voxel space. `Backend` stores the states (native hashed blocks by default, or any
-/// VoxelBackend such as `octomap::OcTree` via nbs/octomap), `Model` turns beams into state updates.
+/// The probabilistic voxel space; models VoxelSpace and BatchRayCastingSpace (space/concepts.hpp). `Backend` stores
+/// the states (native hashed blocks by default, or any VoxelBackend such as `octomap::OcTree` via nbs/octomap),
+/// `Model` turns beams into state updates. A backend that is also a BlockBackend is updated and ray-cast block by
+/// block; any other backend voxel by voxel (same voxels, states and statistics).
 /// Thread-safety: const members (queries, ray casts) may run concurrently; `integrate` and setters need exclusive
 /// access.
 template <class Backend = HashedBlockBackend<ThesisState>, class Model = ThesisModel>
@@ -73,34 +41,15 @@ template <class Backend = HashedBlockBackend<ThesisState>, class Model = ThesisM
 class ProbabilisticVoxelSpace {
 public:
   using State = typename Model::State;
+  using BackendType = Backend;
+  using ModelType = Model;
 
   /// Space of voxel edge `resolution_m` restricted to `unknown_area` (Sec. 4.1; empty box = everything the backend
   /// can store). Throws InvalidArgument if resolution_m ≤ 0 / not finite or unknown_area is not finite.
   explicit ProbabilisticVoxelSpace(double resolution_m, const Aabb& unknown_area = {}, Model model = Model{})
-      : grid_(resolution_m), backend_(backend_traits<Backend>::make(resolution_m)), model_(std::move(model)) {
-    const KeyBox kr = nbs::key_range(backend_);
-    Aabb range;
-    const double eps = 1e-6 * resolution_m;
-    for (int a = 0; a < 3; ++a) {
-      range.min[a] = kr.min[a] * resolution_m;
-      range.max[a] = (kr.max[a] + 1.0) * resolution_m - eps;
-    }
-    if (unknown_area.empty()) {
-      bounds_ = range;
-    } else {
-      detail::require(unknown_area.min.allFinite() && unknown_area.max.allFinite(),
-                      "unknown_area must be finite, got min (", unknown_area.min.transpose(), ") max (",
-                      unknown_area.max.transpose(), ")");
-      bounds_.min = unknown_area.min.cwiseMax(range.min);
-      bounds_.max = unknown_area.max.cwiseMin(range.max);
-      detail::require(!bounds_.empty(), "unknown_area does not overlap the backend's key range");
-    }
-    const KeyBox kb = grid_.key_box(bounds_);
-    for (int a = 0; a < 3; ++a) {
-      voxel_bounds_.min[a] = kb.min[a] * resolution_m + eps;
-      voxel_bounds_.max[a] = (kb.max[a] + 1.0) * resolution_m - eps;
-    }
-  }
+      : backend_(backend_traits<Backend>::make((detail::require_positive("resolution_m", resolution_m), resolution_m))),
+        model_(std::move(model)),
+        area_(resolution_m, unknown_area, nbs::key_range(backend_)) {}
 
   // ---- Update ------------------------------------------------------------------------------------------------
   /// Integrates one scan: beam i runs from scan.origin(i) to scan.points[i]. Throws InvalidArgument (space
@@ -122,7 +71,7 @@ public:
         ++st.rejected_zero_length;
         continue;
       }
-      if (!bounds_.contains(p)) {
+      if (!bounds().contains(p)) {
         ++st.rejected_outside_bounds;
         continue;
       }
@@ -132,28 +81,28 @@ public:
         ++st.rejected_model;
         continue;
       }
-      beams_.push_back({o, p, dir, r, *b, detail::SegmentSetup::to_fixed(Vec3(p * grid_.inverse_resolution()))});
+      beams_.push_back({o, p, dir, r, *b, detail::SegmentSetup::to_fixed(Vec3(p * grid().inverse_resolution()))});
     }
     st.integrated = beams_.size();
     begin_scan();
     for (const BeamRecord& b : beams_) band_pass(b, st);
     for (const BeamRecord& b : beams_) free_pass(b, st);
-    if constexpr (kNative) backend_.end_scan();  // flush policy (off by default)
+    if constexpr (BlockBackend<Backend>) backend_.end_scan();  // flush policy (off by default)
     totals_ += st;
     return st;
   }
 
   // ---- Queries -----------------------------------------------------------------------------------------------
-  [[nodiscard]] const VoxelGrid& grid() const { return grid_; }
-  [[nodiscard]] double resolution_m() const { return grid_.resolution_m(); }
+  [[nodiscard]] const VoxelGrid& grid() const { return area_.grid(); }
+  [[nodiscard]] double resolution_m() const { return area_.resolution_m(); }
   /// The bounding box of the unknown area actually used (clipped to the backend's key range), world metres.
   /// End points must lie inside it.
-  [[nodiscard]] const Aabb& bounds() const { return bounds_; }
+  [[nodiscard]] const Aabb& bounds() const { return area_.bounds(); }
   /// The union of the voxels overlapping bounds() (shrunk by 10⁻⁶ l_v): beams and rays are clipped to it, so
   /// every voxel that overlaps the unknown area can be updated (as OctoMap's bounding-box limit does).
-  [[nodiscard]] const Aabb& voxel_bounds() const { return voxel_bounds_; }
+  [[nodiscard]] const Aabb& voxel_bounds() const { return area_.voxel_bounds(); }
   /// Keys of the voxels overlapping bounds().
-  [[nodiscard]] KeyBox bounds_keys() const { return grid_.key_box(bounds_); }
+  [[nodiscard]] KeyBox bounds_keys() const { return area_.bounds_keys(); }
   [[nodiscard]] const Backend& backend() const { return backend_; }
   /// Mutable access to the backend, e.g. to set HashedBlockBackend's flush policy. Writing voxel states through it
   /// bypasses the update model.
@@ -168,7 +117,7 @@ public:
   [[nodiscard]] double probability(const VoxelKey& k) const { return model_.probability(state(k)); }
   /// p of the voxel containing world point x; 0.5 outside the key range.
   [[nodiscard]] double probability(const Vec3& x) const {
-    const auto k = grid_.key_of(x);
+    const auto k = grid().key_of(x);
     return k ? probability(*k) : 0.5;
   }
   [[nodiscard]] bool occupied(const VoxelKey& k) const { return model_.occupied(state(k)); }
@@ -178,12 +127,8 @@ public:
   void for_each(F&& f) const {
     for_each_voxel(backend_, static_cast<F&&>(f));
   }
-  /// Bytes held by the voxel states (backend) and the surface features.
-  [[nodiscard]] std::size_t memory_bytes() const { return nbs::memory_bytes(backend_) + features_.memory_bytes(); }
-
-  // ---- Surface features (Sec. 4.5.1) --------------------------------------------------------------------------
-  [[nodiscard]] SurfaceFeatureMap& features() { return features_; }
-  [[nodiscard]] const SurfaceFeatureMap& features() const { return features_; }
+  /// Bytes held by the voxel states (backend).
+  [[nodiscard]] std::size_t memory_bytes() const { return nbs::memory_bytes(backend_); }
 
   // ---- Planning ray casts ------------------------------------------------------------------------------------
   /// Visits the voxels on `ray` inside voxel_bounds(), in order from the origin, calling visit(key, state) for each
@@ -191,7 +136,7 @@ public:
   /// false. A ray that misses voxel_bounds() visits nothing. Throws InvalidArgument if the ray is not finite.
   template <class Visit>
   RaycastResult cast_ray(const Ray& ray, Visit&& visit) const {
-    check_ray(ray, 0);
+    detail::check_ray(ray, 0);
     RayReader reader(backend_);
     return cast_ray_unchecked(reader, ray, visit);
   }
@@ -203,7 +148,7 @@ public:
   /// rethrown after every thread has finished.
   template <class Visit>
   std::vector<RaycastResult> cast_rays(std::span<const Ray> rays, unsigned threads, Visit&& visit) const {
-    for (std::size_t i = 0; i < rays.size(); ++i) check_ray(rays[i], i);
+    for (std::size_t i = 0; i < rays.size(); ++i) detail::check_ray(rays[i], i);
     std::vector<RaycastResult> out(rays.size());
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     const std::size_t chunks = (rays.size() + kCastChunk - 1) / kCastChunk;
@@ -248,17 +193,18 @@ private:
     typename Model::Beam beam;
     detail::SegmentSetup::Fixed end_fixed;  ///< end point in the walks' fixed point (voxel units · 2^10)
   };
-  static constexpr bool kNative = detail::is_hashed_block_backend_v<Backend>;
   struct NoReader {
     explicit NoReader(const Backend&) {}
   };
-  /// Block lookups of the planning ray casts: the native backend's cached Reader per thread of cast_rays, an uncached
+  /// Block lookups of the planning ray casts: a BlockBackend's cached reader per thread of cast_rays, an uncached
   /// one for a single cast_ray.
-  using BlockReader = typename std::conditional_t<kNative, detail::ReaderOf<Backend, 8>, std::type_identity<NoReader>>::type;
-  using RayReader = typename std::conditional_t<kNative, detail::ReaderOf<Backend, 0>, std::type_identity<NoReader>>::type;
+  using BlockReader =
+      typename std::conditional_t<BlockBackend<Backend>, detail::ReaderOf<Backend, 8>, std::type_identity<NoReader>>::type;
+  using RayReader =
+      typename std::conditional_t<BlockBackend<Backend>, detail::ReaderOf<Backend, 0>, std::type_identity<NoReader>>::type;
 
   void begin_scan() {
-    if constexpr (kNative) {
+    if constexpr (BlockBackend<Backend>) {
       (void)backend_.next_epoch();
       constexpr std::int32_t kNone = VoxelKey::kMinIndex - 1;  // no walk has this key
       full_band_[0] = full_band_[1] = VoxelKey{kNone, kNone, kNone};
@@ -310,14 +256,14 @@ private:
   // scan. Returns the number of voxels passed to apply (not yet updated in this scan).
   template <class Apply>
   std::uint64_t walk(const detail::SegmentSetup& q, bool include_end, IntegrationStats& st, Apply&& apply) {
-    if constexpr (kNative) {
+    if constexpr (BlockBackend<Backend>) {
       // Only voxels not yet updated in this scan reach the callback; the others are counted as voxels_same_scan.
       std::uint64_t fresh = 0;
       const std::int64_t n = detail::walk_untouched(
           backend_, q, include_end, [&](typename Backend::Block& blk, int i, const VoxelKey& block_key, bool is_end) {
             ++fresh;
             update_fresh(blk, i, st, [&](State& s) {
-              return apply(s, detail::voxel_key_in_block<backend_state_t<Backend>>(block_key, i), is_end);
+              return apply(s, detail::voxel_key_in_block<Backend>(block_key, i), is_end);
             });
           });
       st.voxels_same_scan += static_cast<std::uint64_t>(n) - fresh;
@@ -340,10 +286,10 @@ private:
     const double w = model_.band_half_width_m(b.beam);
     const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
     using Q = detail::SegmentSetup;
-    const VoxelKey end_key = Q::key_of_fixed(b.end_fixed);  // = grid_.key_of(b.end), see SegmentSetup::to_fixed
-    if constexpr (kNative) {
+    const VoxelKey end_key = Q::key_of_fixed(b.end_fixed);  // = grid().key_of(b.end), see SegmentSetup::to_fixed
+    if constexpr (BlockBackend<Backend>) {
       // The band lies inside the end voxel (which lies inside voxel_bounds()): no clipping, no walk.
-      if (grid_.in_voxel(a, end_key) && grid_.in_voxel(e, end_key)) {
+      if (grid().in_voxel(a, end_key) && grid().in_voxel(e, end_key)) {
         update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
                       [&](State& s) { return model_.update_band(s, b.beam, 0.0, true); });
         return;
@@ -352,23 +298,23 @@ private:
     // Clipped band. With both ends inside, clip_segment would return exactly [0, 1] (quotients of monotonically
     // rounded differences), so the divisions are skipped, and point_in_box(a, e, 0) is a itself.
     Vec3 from, to;
-    if (inside(a, voxel_bounds_) && inside(e, voxel_bounds_)) {
+    if (inside(a, voxel_bounds()) && inside(e, voxel_bounds())) {
       from = a;
-      to = detail::point_in_box(a, e, 1.0, voxel_bounds_);
+      to = detail::point_in_box(a, e, 1.0, voxel_bounds());
     } else {
       double t0, t1;
-      if (!detail::clip_segment(a, e, voxel_bounds_, t0, t1)) return;  // cannot happen: b.end is inside
-      from = detail::point_in_box(a, e, t0, voxel_bounds_);
-      to = detail::point_in_box(a, e, t1, voxel_bounds_);
+      if (!detail::clip_segment(a, e, voxel_bounds(), t0, t1)) return;  // cannot happen: b.end is inside
+      from = detail::point_in_box(a, e, t0, voxel_bounds());
+      to = detail::point_in_box(a, e, t1, voxel_bounds());
     }
     const auto update = [&](State& s, const VoxelKey& k, bool) {
       const bool is_end = k == end_key;
-      const double offset = is_end ? 0.0 : (grid_.center(k) - b.origin).dot(b.dir) - b.range_m;
+      const double offset = is_end ? 0.0 : (grid().center(k) - b.origin).dot(b.dir) - b.range_m;
       return model_.update_band(s, b.beam, offset, is_end);
     };
-    const double inv = grid_.inverse_resolution();
+    const double inv = grid().inverse_resolution();
     const Q::Fixed fs = Q::to_fixed(Vec3(from * inv)), fe = Q::to_fixed(Vec3(to * inv));
-    if constexpr (kNative) {
+    if constexpr (BlockBackend<Backend>) {
       // The walk's keys are VoxelGrid::key_of of the same points (see SegmentSetup::to_fixed).
       const VoxelKey ks = Q::key_of_fixed(fs), ke = Q::key_of_fixed(fe);
       if (ks == ke) {  // the band lies in one voxel (the end voxel): no walk
@@ -397,9 +343,9 @@ private:
 
   void free_pass(const BeamRecord& b, IntegrationStats& st) {
     double t0, t1;
-    if (!detail::clip_segment(b.origin, b.end, voxel_bounds_, t0, t1)) return;
-    const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds_);
-    const double inv = grid_.inverse_resolution();
+    if (!detail::clip_segment(b.origin, b.end, voxel_bounds(), t0, t1)) return;
+    const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds());
+    const double inv = grid().inverse_resolution();
     walk(detail::SegmentSetup(detail::SegmentSetup::to_fixed(Vec3(from * inv)), b.end_fixed), false, st,
          [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
   }
@@ -409,55 +355,28 @@ private:
            p.z() >= box.min.z() && p.z() <= box.max.z();
   }
 
-  void check_ray(const Ray& r, std::size_t i) const {
-    detail::require(r.origin.allFinite() && r.end.allFinite(), "ray ", i, " is not finite: origin (",
-                    r.origin.transpose(), ") end (", r.end.transpose(), ")");
-  }
-
+  // A planning cast of a checked ray: block by block for a BlockBackend (the voxels and stop rule of
+  // walk_ray_generic), else walk_ray_generic's per-voxel lookups.
   template <class Reader, class Visit>
   RaycastResult cast_ray_unchecked(Reader& reader, const Ray& ray, Visit& visit) const {
-    RaycastResult res;
-    double t0, t1;
-    if (!detail::clip_segment(ray.origin, ray.end, voxel_bounds_, t0, t1)) return res;
-    const double inv = grid_.inverse_resolution();
-    const Vec3 a = detail::point_in_box(ray.origin, ray.end, t0, voxel_bounds_) * inv;
-    const Vec3 b = detail::point_in_box(ray.origin, ray.end, t1, voxel_bounds_) * inv;
-    const auto on_voxel = [&](const VoxelKey& k, const State& s) {
-      ++res.voxels;
-      if constexpr (std::is_convertible_v<std::invoke_result_t<Visit&, const VoxelKey&, const State&>, bool>) {
-        if (!visit(k, s)) return false;
-      } else {
-        visit(k, s);
-      }
-      if (model_.occupied(s)) {
-        res.hit = true;
-        res.hit_key = k;
-        return false;
-      }
-      return true;
-    };
-    if constexpr (kNative) {
+    if constexpr (BlockBackend<Backend>) {
+      RaycastResult res;
+      Vec3 a, b;
+      if (!detail::clip_ray(ray, voxel_bounds(), grid().inverse_resolution(), a, b)) return res;
       detail::walk_blocks_const(reader, a, b, [&](const typename Backend::Block* blk, int i, const VoxelKey& k) {
-        return on_voxel(k, blk ? blk->get(i) : State{});
+        const State s = blk ? blk->get(i) : State{};
+        return detail::ray_step(res, visit, k, s, model_.occupied(s));
       });
+      return res;
     } else {
       (void)reader;
-      detail::SegmentWalker w(a, b);
-      for (;;) {
-        if (!on_voxel(w.key(), voxel_state(backend_, w.key()))) break;
-        if (w.remaining() == 0) break;
-        w.step();
-      }
+      return detail::walk_ray_unchecked(*this, ray, visit);
     }
-    return res;
   }
 
-  VoxelGrid grid_;
   Backend backend_;
   Model model_;
-  Aabb bounds_;
-  Aabb voxel_bounds_;
-  SurfaceFeatureMap features_;
+  UnknownAreaGrid area_;
   IntegrationStats totals_;
   std::vector<BeamRecord> beams_;
   VoxelKey full_band_[2];  ///< first and last key (one axis apart) of a band walk that met only voxels updated in this scan

@@ -27,18 +27,6 @@
 
 namespace nbs {
 
-/// What the evaluator needs of a voxel space (ProbabilisticVoxelSpace models it).
-template <class S>
-concept EvaluationSpace = requires(const S& s, const Ray& r, const VoxelKey& k) {
-  typename S::State;
-  s.cast_ray(r, [](const VoxelKey&, const typename S::State&) { return true; });
-  { s.model().probability(typename S::State{}) } -> std::convertible_to<double>;
-  { s.model().occupied(typename S::State{}) } -> std::convertible_to<bool>;
-  { s.observed(k) } -> std::convertible_to<bool>;
-  { s.features().find(k) } -> std::convertible_to<const SurfaceFeatures*>;
-  { s.grid().center(k) } -> std::convertible_to<Vec3>;
-};
-
 /// Coarse-to-fine evaluation, our addition to the beam sub-sampling of Sec. 4.5.3 (the thesis scores every candidate
 /// with every 4th beam row and column): a first pass scores every candidate with both strides of the evaluation's
 /// `sampling` multiplied by `coarse_factor`; the `refine_top` best of that pass (ties: lower index, NaN never) are
@@ -71,6 +59,9 @@ struct EvaluationSetting {
   unsigned threads = 0;        ///< worker threads; 0 = std::thread::hardware_concurrency()
   RaySampling sampling;        ///< beam sub-sampling (Sec. 4.5.3)
   CoarseToFine refine;         ///< coarse-to-fine evaluation; off by default (coarse_factor 1)
+  /// Surface features per voxel (Sec. 4.5.1) that VoxelVisit::features points into (the planner owns them);
+  /// nullptr = none (terms that need them, e.g. SurfaceQuality, then see no surface). Borrowed for the call.
+  const SurfaceFeatureMap* features = nullptr;
 };
 
 enum class EvaluationStatus {
@@ -129,10 +120,11 @@ struct EvaluationBuffers {
 /// (the voxels, order and stop rule of space.cast_ray, see planning_snapshot.hpp); otherwise through
 /// space.cast_ray with per-voxel lookups. Both feed the term the same VoxelVisits; over the snapshot, a term that
 /// ignores repeated visits (visits_first_only) gets only the first ones (cast_first_visits).
-template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+template <VoxelSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
-                  const PlanningSnapshot<Space>& snapshot, const RaySampling& sampling, Term& term,
-                  EvaluationBuffers& buf, double& value, std::uint64_t& ray_count, std::uint64_t& voxel_count) {
+                  const PlanningSnapshot<Space>& snapshot, const SurfaceFeatureMap* features,
+                  const RaySampling& sampling, Term& term, EvaluationBuffers& buf, double& value,
+                  std::uint64_t& ray_count, std::uint64_t& voxel_count) {
   using State = typename Space::State;
   term.begin_candidate(index);
   ray_count = voxel_count = 0;
@@ -143,8 +135,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
     if (fast) buf.bits.reset(snapshot.voxel_count());
     buf.visited.clear();
     const auto& model = space.model();
-    const auto& features = space.features();
-    const bool have_features = features.size() > 0;
+    const bool have_features = features != nullptr && features->size() > 0;
     const VoxelGrid& grid = space.grid();
     const bool first_only = fast && visits_first_only(term);
     for (const Ray& ray : buf.rays) {
@@ -193,7 +184,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
             c.observed = space.observed(k);
           }
           // Features exist only for surface voxels (p ≥ Parameters::occupied_threshold, Sec. 4.5.1), which are occupied; look up only those.
-          c.features = (have_features && c.occupied) ? features.find(k) : nullptr;
+          c.features = (have_features && c.occupied) ? features->find(k) : nullptr;
           emit(k, c, snapshot.contains(k) ? buf.bits.insert(snapshot.index_of(k)) : buf.visited.insert(k.pack()));
           return true;
         });
@@ -212,7 +203,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
 /// (status no_candidates for an empty list). The sensor is validated first; invalid input throws InvalidArgument
 /// (the lowest-index candidate's error if several fail). Thread-safety: `space` is only read; do not integrate
 /// into it concurrently.
-template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+template <VoxelSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 [[nodiscard]] EvaluationResult evaluate_candidates(std::span<const LinearScanPath> candidates, const Sensor& sensor,
                                                    const Space& space, const Term& prototype,
                                                    const EvaluationSetting& setting = {}) {
@@ -237,7 +228,7 @@ template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 
   std::vector<std::exception_ptr> errors(n);
   const detail::PlanningSnapshot<Space> snapshot =
-      term_needs_rays<Term>() ? detail::PlanningSnapshot<Space>(space) : detail::PlanningSnapshot<Space>();
+      term_needs_rays<Term>() ? detail::PlanningSnapshot<Space>(space, setting.features) : detail::PlanningSnapshot<Space>();
   // Scores candidates[order[j]] for every j (all candidates if order is empty) with `sampling`.
   const auto pass = [&](std::span<const std::size_t> order, const RaySampling& sampling) {
     const std::size_t m = order.empty() ? n : order.size();
@@ -248,8 +239,8 @@ template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
       for (std::size_t j; (j = next.fetch_add(1, std::memory_order_relaxed)) < m;) {
         const std::size_t i = order.empty() ? j : order[j];
         try {
-          detail::evaluate_one(i, candidates[i], sensor, space, snapshot, sampling, term, buf, r.values[i], r.rays[i],
-                               r.voxels[i]);
+          detail::evaluate_one(i, candidates[i], sensor, space, snapshot, setting.features, sampling, term, buf,
+                               r.values[i], r.rays[i], r.voxels[i]);
         } catch (...) {
           errors[i] = std::current_exception();
         }
@@ -286,7 +277,7 @@ template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 }
 
 /// Convenience overload for a vector of candidates.
-template <EvaluationSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
+template <VoxelSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 [[nodiscard]] EvaluationResult evaluate_candidates(const std::vector<LinearScanPath>& candidates, const Sensor& sensor,
                                                    const Space& space, const Term& prototype,
                                                    const EvaluationSetting& setting = {}) {

@@ -101,7 +101,7 @@ struct SelectionSetting {
 
 /// Evaluates `candidates` with the criterion `sel.selection` (see the table above). N_v is computed from the space
 /// (`non_free_voxel_count`); PC and VG build a ProximityField first (included in t_nbs_s).
-template <EvaluationSpace Space, CandidateRaySensor Sensor>
+template <VoxelSpace Space, CandidateRaySensor Sensor>
 [[nodiscard]] EvaluationResult evaluate_selection(std::span<const LinearScanPath> candidates, const Sensor& sensor,
                                                   const Space& space, const SelectionSetting& sel,
                                                   const EvaluationSetting& setting = {}) {

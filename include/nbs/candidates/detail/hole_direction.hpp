@@ -38,7 +38,7 @@ namespace nbs::detail {
 
 /// isOcclusionFree of Alg. 2: the ray from `center` + offset·dir to `center` + d_s·dir meets no occupied voxel.
 /// The first `offset_m` are skipped so that the surface voxels around the hole itself do not count.
-template <PlanningSpace Space>
+template <VoxelSpace Space>
 [[nodiscard]] bool occlusion_free(const Space& space, const Vec3& center, const Vec3& dir, double standoff_m,
                                   double offset_m) {
   const double from = std::min(offset_m, standoff_m);

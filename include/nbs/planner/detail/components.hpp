@@ -11,6 +11,7 @@
 #include "nbs/utility/selection.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 
+#include "nbs/coverage/coverage_estimator.hpp"
 #include "nbs/mesh/density.hpp"
 #include "nbs/mesh/holes.hpp"
 #include "nbs/mesh/streaming_mesh.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// Construction helpers of NbsPlanner: the voxel space (thesis model with the sensor's σ(d)), the termination
-/// criterion and the collision checker from Parameters; scan bookkeeping.
+/// Construction helpers of NbsPlanner: the voxel space (a NoiseModelSpace with the sensor's σ(d)), the termination
+/// criterion and the collision checker from Parameters; the unknown-area check.
 
 #include <algorithm>
 #include <concepts>
@@ -13,39 +13,19 @@
 namespace nbs::detail {
 
 /// The voxel space of the planner: l_v = params.voxel_size_m over the bounding box of the unknown area. A
-/// ThesisModel space gets σ(d) of the sensor's noise (clamped to ≥ 10 µm, the model needs σ > 0); any other
+/// NoiseModelSpace gets σ(d) of the sensor's noise (clamped to ≥ 10 µm, the thesis model needs σ > 0); any other
 /// space is built as Space(l_v, box).
-/// True if Space(l_v, box, ThesisModel) exists and its model() is a ThesisModel.
-template <class Space>
-concept ThesisModelSpace =
-    std::constructible_from<Space, double, const Aabb&, ThesisModel> && requires(const Space& s) {
-      { s.model() } -> std::convertible_to<const ThesisModel&>;
-    };
-
-template <class Space, class Sensor>
+template <VoxelSpace Space, class Sensor>
 [[nodiscard]] std::unique_ptr<Space> make_planner_space(const Parameters& params, const Aabb& box,
                                                         const Sensor& sensor) {
-  if constexpr (ThesisModelSpace<Space> && requires { sensor.noise.sigma_m(1.0); }) {
-    ThesisModel::Setting st;
+  if constexpr (NoiseModelSpace<Space> && requires { sensor.noise.sigma_m(1.0); }) {
+    typename Space::ModelType::Setting st;
     const auto noise = sensor.noise;
     st.sigma_m = [noise](double d) { return std::max(noise.sigma_m(d), 1e-5); };
-    return std::make_unique<Space>(params.voxel_size_m, box, ThesisModel(st));
+    return std::make_unique<Space>(params.voxel_size_m, box, typename Space::ModelType(st));
   } else {
     return std::make_unique<Space>(params.voxel_size_m, box);
   }
-}
-
-/// The mesh policy over `box`; with PlannerSetting::noise_robust_mesh a StreamingMesh gets the settings of
-/// NoiseRobustStreamingMesh, without it the thesis's. Other Mesh policies (derived from StreamingMesh or not) are
-/// built from (Parameters, box) and choose their own settings.
-template <class Mesh>
-[[nodiscard]] std::unique_ptr<Mesh> make_planner_mesh(const Parameters& params, const Aabb& box,
-                                                      [[maybe_unused]] bool noise_robust) {
-  if constexpr (std::is_same_v<Mesh, StreamingMesh>) {
-    if (noise_robust)
-      return std::make_unique<Mesh>(NoiseRobustStreamingMesh::robust(StreamingMeshSettings::from(params, box)));
-  }
-  return std::make_unique<Mesh>(params, box);
 }
 
 /// The termination criterion from Parameters: DefaultTermination by default_termination(params), else

@@ -1,21 +1,17 @@
 #pragma once
 /// \file
-/// Segment walks over a HashedBlockBackend that look a block up only when the walk enters a new block.
+/// Segment walks over a BlockBackend (space/concepts.hpp) that look a block up only when the walk enters a new block.
 
 #include <cstdint>
 #include <memory>
 #include <type_traits>
 
 #include "nbs/core/types.hpp"
+#include "nbs/space/detail/segment_clip.hpp"
 #include "nbs/space/detail/segment_walker.hpp"
-#include "nbs/space/hashed_block_backend.hpp"
+#include "nbs/space/concepts.hpp"
 
 namespace nbs::detail {
-
-template <class B>
-inline constexpr bool is_hashed_block_backend_v = false;
-template <class S>
-inline constexpr bool is_hashed_block_backend_v<HashedBlockBackend<S>> = true;
 
 /// ReaderOf<B, Bits>::type is B::BasicReader<Bits> (lazily, so that std::conditional_t can name it for any backend).
 template <class B, int Bits>
@@ -23,10 +19,9 @@ struct ReaderOf {
   using type = typename B::template BasicReader<Bits>;
 };
 
-/// Key of voxel `i` of the block with block key `bk` (= voxel key >> kEdgeBits per axis).
-template <class S>
+/// Key of voxel `i` of the block with block key `bk` (= voxel key >> kEdgeBits per axis) of a BlockBackend BE.
+template <class BE>
 [[nodiscard]] VoxelKey voxel_key_in_block(const VoxelKey& bk, int i) {
-  using BE = HashedBlockBackend<S>;
   constexpr int m = BE::kEdge - 1, e = BE::kEdgeBits;
   return {(bk.x << e) | (i & m), (bk.y << e) | ((i >> e) & m), (bk.z << e) | (i >> (2 * e))};
 }
@@ -35,10 +30,9 @@ template <class S>
 /// CommonDenominatorStepper): the voxel index is stepped inside a block; the block is looked up on leaving it. Fresh
 /// voxels (rare) are collected and handed to visit in batches, so that the loop itself makes no calls but the block
 /// lookups. Stepper and signs are taken by value so that the loop keeps them in registers.
-template <class S, class Stepper, class Visit>
-void walk_untouched_steps(HashedBlockBackend<S>& be, Stepper st, const VoxelKey start, const int sx, const int sy,
+template <class BE, class Stepper, class Visit>
+void walk_untouched_steps(BE& be, Stepper st, const VoxelKey start, const int sx, const int sy,
                           const int sz, std::int64_t steps, const bool include_end, Visit& visit) {
-  using BE = HashedBlockBackend<S>;
   using Block = typename BE::Block;
   constexpr int e = BE::kEdgeBits, m = BE::kEdge - 1;
   struct Fresh {  // no member initialisers: the batch is not zeroed on every call
@@ -96,8 +90,8 @@ void walk_untouched_steps(HashedBlockBackend<S>& be, Stepper st, const VoxelKey 
 /// visit(Block&, index, block_key, is_end_voxel) (block_key: see voxel_key_in_block), allocating blocks as needed.
 /// Voxels already updated in this scan cost one DDA step and one bit test. Returns the number of voxels of the walk
 /// (visited or skipped).
-template <class S, class Visit>
-std::int64_t walk_untouched(HashedBlockBackend<S>& be, const SegmentSetup& q, bool include_end, Visit&& visit) {
+template <BlockBackend BE, class Visit>
+std::int64_t walk_untouched(BE& be, const SegmentSetup& q, bool include_end, Visit&& visit) {
   const std::int64_t steps = q.steps();
   if (const auto fast = CommonDenominatorStepper::make(q)) {
     walk_untouched_steps(be, *fast, q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_end, visit);
@@ -142,32 +136,6 @@ std::uint32_t walk_blocks_const(Reader& rd, const Vec3& a, const Vec3& b, Visit&
   const SegmentSetup q(a, b);
   if (const auto fast = CommonDenominatorStepper::make(q)) return walk_blocks_const_steps(rd, *fast, q, visit);
   return walk_blocks_const_steps(rd, SegmentWalker(q), q, visit);
-}
-
-/// Clips the segment a → b to the closed box (Liang–Barsky). Returns false if they do not meet; otherwise sets
-/// [t0, t1] ⊆ [0, 1].
-inline bool clip_segment(const Vec3& a, const Vec3& b, const Aabb& box, double& t0, double& t1) {
-  t0 = 0.0;
-  t1 = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    const double d = b[i] - a[i];
-    if (d == 0.0) {
-      if (a[i] < box.min[i] || a[i] > box.max[i]) return false;
-      continue;
-    }
-    double ta = (box.min[i] - a[i]) / d;
-    double tb = (box.max[i] - a[i]) / d;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
-/// a + t·(b − a), clamped into the box (guards against round-off past the faces).
-inline Vec3 point_in_box(const Vec3& a, const Vec3& b, double t, const Aabb& box) {
-  return (a + t * (b - a)).cwiseMax(box.min).cwiseMin(box.max);
 }
 
 }  // namespace nbs::detail

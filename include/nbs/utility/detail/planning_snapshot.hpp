@@ -6,11 +6,11 @@
 /// same order, with the same stop rule. It replaces, per visited voxel, the block hash lookup, the observed lookup,
 /// the log/exp of the occupancy and the log₂ of the entropy by two array loads.
 ///
-/// Built only from the space's public API (`bounds_keys`, `voxel_bounds`, `for_each`, `model`, `features`, `grid`)
-/// and the space's exact DDA (`detail::SegmentWalker` / `CommonDenominatorStepper`, `clip_segment`, `point_in_box`).
+/// Built from the VoxelSpace contract only (`bounds_keys`, `voxel_bounds`, `for_each`, `model`, `grid`), the surface
+/// features the caller passes, and the exact DDA every planning cast uses (space/ray_traversal.hpp, ray_cast.hpp).
 /// Relies on the backend contract that a never-written (unobserved) voxel reads as `State{}`. Not built (`enabled()`
-/// false) when the box has more than `kMaxVoxels` voxels, when the model calls `State{}` occupied, or when the space
-/// lacks that API; the evaluator then uses `space.cast_ray` with per-voxel lookups.
+/// false) when the box has more than `kMaxVoxels` voxels or when the model calls `State{}` occupied; the evaluator then
+/// uses `space.cast_ray` with per-voxel lookups.
 
 #include <concepts>
 #include <cstddef>
@@ -22,21 +22,13 @@
 #include <vector>
 
 #include "nbs/core/error.hpp"
-#include "nbs/space/detail/block_walk.hpp"
-#include "nbs/space/detail/segment_walker.hpp"
-#include "nbs/space/probabilistic_voxel_space.hpp"
+#include "nbs/space/concepts.hpp"
+#include "nbs/space/ray_cast.hpp"
+#include "nbs/space/ray_traversal.hpp"
 #include "nbs/space/surface_features.hpp"
 #include "nbs/utility/utility_function.hpp"
 
 namespace nbs::detail {
-
-/// What the snapshot needs of a space beyond EvaluationSpace.
-template <class S>
-concept SnapshotSpace = requires(const S& s) {
-  { s.bounds_keys() } -> std::convertible_to<KeyBox>;
-  { s.voxel_bounds() } -> std::convertible_to<const Aabb&>;
-  s.for_each([](const VoxelKey&, const typename S::State&) {});
-};
 
 /// Everything a VoxelVisit takes from the voxel itself.
 struct VoxelClass {
@@ -77,8 +69,9 @@ public:
 
   /// A disabled snapshot.
   PlanningSnapshot() = default;
-  explicit PlanningSnapshot(const Space& space) : space_(&space) {
-    if constexpr (SnapshotSpace<Space>) build();
+  /// Snapshot of `space` with the surface features of `features` (may be nullptr: none).
+  explicit PlanningSnapshot(const Space& space, const SurfaceFeatureMap* features = nullptr) : space_(&space) {
+    build(features);
   }
 
   /// False: use space.cast_ray instead (see file comment).
@@ -189,7 +182,7 @@ private:
     }
   }
 
-  void build() {
+  void build(const SurfaceFeatureMap* features) {
     const Space& s = *space_;
     const auto& model = s.model();
     if (model.occupied(State{})) return;
@@ -218,13 +211,12 @@ private:
       }
     };
     std::unordered_map<Key, std::uint32_t, KeyHash> index_of;
-    const auto& features = s.features();
-    const bool have_features = features.size() > 0;
+    const bool have_features = features != nullptr && features->size() > 0;
     bool ok = true;
     s.for_each([&](const VoxelKey& k, const State& st) {
       if (!box_.contains(k) || !ok) return;
       const bool occ = model.occupied(st);
-      const SurfaceFeatures* f = (have_features && occ) ? features.find(k) : nullptr;
+      const SurfaceFeatures* f = (have_features && occ) ? features->find(k) : nullptr;
       const double p = model.probability(st);
       std::uint64_t bits;
       std::memcpy(&bits, &p, sizeof bits);

@@ -9,7 +9,7 @@
 
 #include "nbs/space/voxel_key.hpp"
 
-namespace nbs::detail {
+namespace nbs {
 
 class KeySlots {
 public:
@@ -57,4 +57,4 @@ private:
   std::unordered_map<VoxelKey, std::int32_t, VoxelKeyHash> map_;
 };
 
-}  // namespace nbs::detail
+}  // namespace nbs
