@@ -14,6 +14,9 @@
 /// dropped (pass-through filter, Sec. 4.1). Faces created or changed since `begin_scan()` form M_cur (Sec. 4.2).
 ///
 /// Units: metres, world frame. Not thread-safe; const members may be called concurrently when no thread writes.
+///
+/// The settings and counters are in streaming_mesh_settings.hpp; insert() and its normal and triangulation stages
+/// are defined in detail/streaming_mesh_impl.hpp (included at the end).
 
 #include <algorithm>
 #include <cstdint>
@@ -24,81 +27,15 @@
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/core/scan.hpp"
+#include "nbs/mesh/detail/ball_moments.hpp"
 #include "nbs/mesh/detail/face_store.hpp"
 #include "nbs/mesh/detail/local_triangulation.hpp"
 #include "nbs/mesh/detail/normal_estimation.hpp"
 #include "nbs/mesh/detail/spatial_hash.hpp"
 #include "nbs/mesh/mesh_concept.hpp"
+#include "nbs/mesh/streaming_mesh_settings.hpp"
 
 namespace nbs {
-
-/// Settings of the streaming reconstruction. Radii from `Parameters` (Tab. 4.3); the rest are our choices.
-struct StreamingMeshSettings {
-  double reduction_radius_m = 0.0005;  ///< R_r.
-  double normal_radius_m = 0.004;      ///< R_n.
-  double mesh_radius_m = 0.006;        ///< R_m.
-  Aabb pass_through;                   ///< bounding box of the unknown area; empty box = no filter.
-  detail::NormalRobustness robustness; ///< when a PCA normal counts as robust.
-  double min_normal_dot = 0.5;         ///< vertices/faces with normals more than 60° apart are not connected.
-  /// Depth of the density limitation along the line of sight (ours; 0, the default, is the thesis's R_r ball only).
-  /// A point is also rejected if a stored point that faces its sensor lies within R_r of its line of sight and
-  /// within this depth along it. Meant for range noise above R_r (Eq. 4.39: σ ≈ 1.1 mm at 0.3 m against R_r =
-  /// 0.5 mm): the ball alone then keeps a slab of noisy layers whose tangent-plane triangulations overlap; the
-  /// cylinder keeps one layer. R_n is a good value. Use with `project_vertices`.
-  double density_depth_m = 0.0;
-  /// Move a vertex onto the plane of its weighted PCA (through the ball's weighted mean, along its normal) when it
-  /// gets its robust normal (ours, off by default: a one-step MLS projection). Triangulation and `position()` use the
-  /// projected point; the density limitation and the normal stage keep the measured one (`stored_position()`).
-  /// Measured with both options (density_depth_m = R_n) on a 60 mm plane at σ = 1 mm, 3 scans: triangles projected
-  /// on the plane cover 1.03× its area (3–4× without) and the vertex RMS error is 0.43 mm; on the bunny (C_H, 30
-  /// scans) the vertex RMS error drops from 1.07 to 0.66 mm with half the vertices. Off here (the thesis's stream as
-  /// written); on in NoiseRobustStreamingMesh and in a planner's StreamingMesh by default (PlannerSetting::
-  /// noise_robust_mesh, with coverage_estimate = unseen_open).
-  bool project_vertices = false;
-
-  [[nodiscard]] static StreamingMeshSettings from(const Parameters& p, const Aabb& unknown_area = {}) {
-    p.validate();
-    StreamingMeshSettings s;
-    s.reduction_radius_m = p.reduction_radius_m;
-    s.normal_radius_m = p.normal_radius_m;
-    s.mesh_radius_m = p.mesh_radius_m;
-    s.pass_through = unknown_area;
-    return s;
-  }
-  /// Throws InvalidArgument naming the first bad field.
-  void validate() const {
-    detail::require_positive("reduction_radius_m", reduction_radius_m);
-    detail::require_positive("normal_radius_m", normal_radius_m);
-    detail::require_positive("mesh_radius_m", mesh_radius_m);
-    detail::require(reduction_radius_m < mesh_radius_m && reduction_radius_m < normal_radius_m,
-                    "reduction_radius_m (", reduction_radius_m, ") must be smaller than normal_radius_m (",
-                    normal_radius_m, ") and mesh_radius_m (", mesh_radius_m, ")");
-    detail::require(robustness.min_neighbours >= 3, "robustness.min_neighbours must be >= 3, got ",
-                    robustness.min_neighbours);
-    detail::require_in_range("min_normal_dot", min_normal_dot, -1.0, 1.0);
-    detail::require_in_range("density_depth_m", density_depth_m, 0.0, normal_radius_m);
-  }
-};
-
-/// What happened to one incoming point.
-enum class InsertResult : std::uint8_t {
-  invalid,        ///< non-finite point or line of sight, or zero line of sight: skipped.
-  outside,        ///< outside the pass-through box: skipped.
-  too_close,      ///< closer than R_r to a stored point: skipped (density limitation).
-  pending,        ///< stored, normal not (yet) robust: not a mesh vertex yet.
-  meshed,         ///< stored with a robust normal and triangulated.
-};
-
-/// Counters of the stream (all since construction).
-struct StreamingStats {
-  std::uint64_t received = 0;       ///< points offered to insert().
-  std::uint64_t invalid = 0;        ///< skipped: NaN/inf coordinates or zero line of sight.
-  std::uint64_t outside = 0;        ///< skipped by the pass-through filter.
-  std::uint64_t too_close = 0;      ///< skipped by the density limitation.
-  std::uint64_t stored = 0;         ///< points kept (= vertex_count()).
-  std::uint64_t meshed = 0;         ///< points with a robust normal, passed to triangulation.
-  std::uint64_t normal_failures = 0;///< normal estimations that were not robust (collinear, too few neighbours...).
-};
 
 class StreamingMesh {
 public:
@@ -290,28 +227,7 @@ private:
     double d2;
     VertexId id;
   };
-  /// Weighted moments of a pending vertex's points within R_n, relative to the vertex (centre included): Σw, Σw d,
-  /// Σw d dᵀ (lower triangle). Kept for every pending vertex (80 bytes) from its insertion until it is meshed, and
-  /// updated as points join its ball, so that a retry with a clearly non-robust neighbourhood costs O(1). One-pass,
-  /// so only good for a clear verdict (clearly_not_robust with a 1e-4 margin, which estimate() then agrees with).
-  struct BallMoments {
-    double w = 0.0;
-    Vec3 wd = Vec3::Zero();
-    Mat3 wdd = Mat3::Zero();
-    void add(const Vec3& d, double weight) {
-      w += weight;
-      wd += weight * d;
-      for (int j = 0; j < 3; ++j)
-        for (int i = j; i < 3; ++i) wdd(i, j) += weight * d(i) * d(j);
-    }
-    [[nodiscard]] Mat3 covariance() const {
-      const Vec3 mean = wd / w;
-      Mat3 c = Mat3::Zero();
-      for (int j = 0; j < 3; ++j)
-        for (int i = j; i < 3; ++i) c(i, j) = wdd(i, j) / w - mean(i) * mean(j);
-      return c;
-    }
-  };
+  using BallMoments = detail::BallMoments;
   /// One slot of the cache of first balls of pending vertices (slots are reused).
   struct CachedBall {
     std::vector<CachedEntry> entries;
@@ -437,146 +353,10 @@ public:
   }
 };
 
-// ---- implementation ------------------------------------------------------------------------------------------------
-
-inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sight) {
-  ++stats_.received;
-  const double los_norm = line_of_sight.norm();
-  if (!p.allFinite() || !line_of_sight.allFinite() || !(los_norm > 1e-12)) {
-    ++stats_.invalid;
-    return InsertResult::invalid;
-  }
-  if (!settings_.pass_through.empty() && !settings_.pass_through.contains(p)) {
-    ++stats_.outside;
-    return InsertResult::outside;
-  }
-  if (too_close(p, line_of_sight / los_norm)) {
-    ++stats_.too_close;
-    return InsertResult::too_close;
-  }
-  const auto v = static_cast<VertexId>(pos_.size());
-  pos_.push_back(p);
-  if (settings_.project_vertices) surf_.push_back(p);
-  nrm_.push_back(Vec3::Zero());
-  los_.push_back((line_of_sight / los_norm).cast<float>());
-  count_.push_back(1);
-  attempt_.push_back(0);
-  cached_of_.push_back(0);
-  moments_of_.push_back(0);
-  faces_.add_vertex();
-  grid_.insert(p, v);
-  ++stats_.stored;
-
-  gather(p, first_ball_radius(), v, ball_);
-  const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m;
-  std::vector<VertexId>& retry = retry_;
-  retry.clear();
-  const std::uint64_t key = grid_.cell_key(p);
-  for (const auto& [d2, q] : ball_) {
-    if (CachedBall* c = cached_ball(q)) {  // v joins q's ball after the entries of cells <= v's cell
-      auto at = c->entries.end();
-      while (at != c->entries.begin() && std::prev(at)->key > key) --at;
-      c->entries.insert(at, CachedEntry{key, d2, v});
-    }
-    if (d2 > rn2) continue;
-    if (moments_of_[q] != 0) moments_[moments_of_[q] - 1].add(p - pos_[q], detail::pca_weight(d2, 1.0 / rn2));
-    ++count_[v];
-    ++count_[q];
-    if (!has_normal(q) && static_cast<int>(count_[q]) >= settings_.robustness.min_neighbours &&
-        count_[q] >= attempt_[q] + 2)
-      retry.push_back(q);
-  }
-  InsertResult result = InsertResult::pending;
-  if (estimate(v)) {
-    triangulate(v);
-    result = InsertResult::meshed;
-  } else {
-    start_moments(v);
-  }
-  // Pending neighbours got a new point: retry them, each with its own ball.
-  for (VertexId q : retry_) {
-    // A clear failure by the moments is one of estimate() too (its verdict, with its bookkeeping).
-    if (detail::clearly_not_robust(moments_[moments_of_[q] - 1].covariance(), settings_.robustness, 1e-4)) {
-      ++stats_.normal_failures;
-      attempt_[q] = count_[q];
-      continue;
-    }
-    if (const CachedBall* c = cached_ball(q)) {
-      ball_.clear();
-      for (const CachedEntry& e : c->entries) ball_.emplace_back(e.d2, e.id);
-    } else {
-      gather(pos_[q], first_ball_radius(), q, ball_);
-    }
-    if (estimate(q)) {
-      uncache_ball(q);
-      drop_moments(q);
-      triangulate(q);
-    } else if (cached_of_[q] == 0) {
-      cache_ball(q);
-    }
-  }
-  faces_.refresh_border();  // the faces are consistent again: bring the border masks up to date
-  return result;
-}
-
-inline bool StreamingMesh::estimate(VertexId v) {
-  const double rn2 = settings_.normal_radius_m * settings_.normal_radius_m, inv_rn2 = 1.0 / rn2;
-  pts_.clear();
-  wts_.clear();
-  pts_.push_back(pos_[v]);
-  wts_.push_back(detail::pca_weight(0.0, inv_rn2));
-  for (const auto& [d2, q] : ball_)
-    if (d2 <= rn2) {
-      pts_.push_back(pos_[q]);
-      wts_.push_back(detail::pca_weight(d2, inv_rn2));
-    }
-  const auto est = detail::estimate_normal(pts_, wts_, los_[v].cast<double>(), settings_.robustness);
-  if (!est.robust) {
-    ++stats_.normal_failures;
-    attempt_[v] = count_[v];
-    return false;
-  }
-  nrm_[v] = est.normal;
-  if (settings_.project_vertices) surf_[v] = pos_[v] - (pos_[v] - est.mean).dot(est.normal) * est.normal;
-  ++stats_.meshed;
-  return true;
-}
-
-inline void StreamingMesh::triangulate(VertexId v) {
-  // The 2·max_fan_neighbours nearest meshed points of the R_m ball. ball_ holds the first ball (the R_m ball's points
-  // within min(R_n, R_m), in the same order); if it has fewer meshed points than needed, the R_m ball is gathered —
-  // unless the first ball already holds max_fan_neighbours points the fan takes (LocalTriangulator::fan_neighbour):
-  // the fan takes the nearest such points, and every point of the wider ball lies farther.
-  const std::size_t k_max = 2 * static_cast<std::size_t>(tri_settings_.max_fan_neighbours);
-  const double rm2 = settings_.mesh_radius_m * settings_.mesh_radius_m;
-  auto select = [&] {
-    ball2_.clear();
-    for (const auto& e : ball_)
-      if (e.first <= rm2 && has_normal(e.second)) ball2_.push_back(e);
-  };
-  select();
-  const auto enough_fan_neighbours = [&] {
-    int taken = 0;
-    for (const auto& e : ball2_)
-      if (tri_.fan_neighbour(v, e.second, tri_settings_) && ++taken >= tri_settings_.max_fan_neighbours) return true;
-    return false;
-  };
-  if (ball2_.size() < k_max && settings_.mesh_radius_m > settings_.normal_radius_m && !enough_fan_neighbours()) {
-    gather(pos_[v], settings_.mesh_radius_m, v, ball_);
-    select();
-  }
-  const std::size_t k = std::min(ball2_.size(), k_max);
-  // The k nearest, sorted by (squared distance, id): a total order, so nth_element + sort equals partial_sort.
-  const auto kth = ball2_.begin() + static_cast<std::ptrdiff_t>(k);
-  if (kth != ball2_.end()) std::nth_element(ball2_.begin(), kth, ball2_.end());
-  std::sort(ball2_.begin(), kth);
-  meshed_nb_.clear();
-  for (std::size_t i = 0; i < k; ++i) meshed_nb_.push_back(ball2_[i].second);
-  tri_.insert(v, meshed_nb_, tri_settings_, scan_);
-}
-
 static_assert(EdgeMesh<StreamingMesh>);
 static_assert(TracksCurrentScan<StreamingMesh>);
 static_assert(KnowsFaceBorders<StreamingMesh>);
 
 }  // namespace nbs
+
+#include "nbs/mesh/detail/streaming_mesh_impl.hpp"

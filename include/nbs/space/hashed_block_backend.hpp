@@ -18,16 +18,17 @@
 ///
 /// Thread-safety: concurrent const calls are safe (also on flushed blocks: they only read files); writes, end_scan and
 /// the flush calls need exclusive access. Const calls on a flushed block throw FileError if its file cannot be read.
+///
+/// The flush setting and counters are in block_flush.hpp, the block files in detail/block_files.hpp, the flushing
+/// and reloading members in detail/hashed_block_flush.hpp (included at the end), the cached read-only lookups
+/// (Reader) in detail/block_reader.hpp.
 
 #include <algorithm>
-#include <atomic>
+#include <array>
 #include <bit>
-#include <chrono>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -37,28 +38,13 @@
 #include <vector>
 
 #include "nbs/core/error.hpp"
+#include "nbs/space/block_flush.hpp"
 #include "nbs/space/block_states.hpp"
+#include "nbs/space/detail/block_files.hpp"
+#include "nbs/space/detail/block_reader.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 namespace nbs {
-
-/// When HashedBlockBackend writes cold blocks to disk. Flushing is on when `directory` is set and idle_scans > 0 or
-/// memory_budget_bytes > 0.
-struct BlockFlushSetting {
-  /// Parent folder; the backend creates its own sub-folder `nbs-blocks-<n>` there at the first flush and deletes it
-  /// when destroyed.
-  std::filesystem::path directory;
-  std::uint32_t idle_scans = 0;           ///< flush blocks not written during the last idle_scans scans (0 = off)
-  std::size_t memory_budget_bytes = 0;    ///< then flush LRU blocks until memory_bytes() ≤ this (0 = off)
-};
-
-/// What flushing has done so far.
-struct BlockFlushStats {
-  std::uint64_t blocks_written = 0;   ///< blocks flushed to disk
-  std::uint64_t blocks_reloaded = 0;  ///< flushed blocks brought back by a write access
-  std::uint64_t failed_writes = 0;    ///< flushes that failed (the block stayed in memory)
-  std::string last_error;             ///< message of the last failed flush ("" if none)
-};
 
 /// Hashed 8³-block storage of `StateT` per voxel. Models VoxelBackend.
 template <class StateT>
@@ -203,40 +189,11 @@ public:
     read_block(id, *scratch);
     return scratch.get();
   }
-  /// Read-only block lookups for one thread's walks: find_block behind a direct-mapped cache of 2^CacheBits recent
-  /// ids (resident blocks and ids without a block; a flushed block read into the reader's scratch is not cached).
-  /// Valid while the backend is not modified. Not thread-safe: one reader per thread; several may read one backend
-  /// concurrently. Reader (256 slots, 4 KiB) serves many rays; a single ray, which seldom revisits a block, takes
-  /// BasicReader<0>.
+  /// Read-only block lookups for one thread's walks, behind a direct-mapped cache of 2^CacheBits recent ids (see
+  /// detail/block_reader.hpp). Not thread-safe: one reader per thread. Reader (256 slots) serves many rays; a single
+  /// ray takes BasicReader<0>.
   template <int CacheBits>
-  class BasicReader {
-  public:
-    using Backend = HashedBlockBackend;
-    explicit BasicReader(const HashedBlockBackend& be) : be_(&be) {}
-    /// find_block(id): the block, or nullptr if it was never allocated. A flushed block stays valid until the next
-    /// find of another flushed block. Throws FileError if a flushed block cannot be read.
-    [[nodiscard]] const Block* find(std::uint64_t id) {
-      Slot& s = slots_[kBits == 0 ? 0 : (id * 0x9E3779B97F4A7C15ull) >> ((64 - kBits) & 63)];
-      if (s.id == id) return s.block;
-      return find_slow(id, s);
-    }
-
-  private:
-    static constexpr int kBits = CacheBits;
-    static_assert(kBits >= 0 && kBits <= 16);
-    struct Slot {
-      std::uint64_t id = ~std::uint64_t{0};  // never a packed key (those use 63 bits)
-      const Block* block = nullptr;
-    };
-    const Block* find_slow(std::uint64_t id, Slot& s) {
-      const Block* b = be_->find_block(id, scratch_);
-      if (b == nullptr || b != scratch_.get()) s = {id, b};
-      return b;
-    }
-    const HashedBlockBackend* be_;
-    std::array<Slot, std::size_t{1} << kBits> slots_{};
-    std::unique_ptr<Block> scratch_;
-  };
+  using BasicReader = detail::CachedBlockReader<HashedBlockBackend, CacheBits>;
   using Reader = BasicReader<8>;
   /// The block with id `id` for writing, allocated (all voxels unknown) if absent and reloaded if flushed. Its
   /// touched mask belongs to the current epoch. A direct-mapped cache of recently used blocks sits in front of the
@@ -347,9 +304,6 @@ public:
   }
 
 private:
-  static constexpr std::uint32_t kMagic = 0x4253424Eu;  // "NBSB"
-  static constexpr std::uint32_t kVersion = 1;
-
   template <class F>
   static void for_each_in(std::uint64_t id, const Block& b, F& f) {
     const VoxelKey base = block_origin(id);
@@ -365,87 +319,25 @@ private:
     return !setting_.directory.empty() && (setting_.idle_scans > 0 || setting_.memory_budget_bytes > 0);
   }
 
-  Block* find_or_make(std::uint64_t id) {
-    auto it = blocks_.find(id);
-    if (it != blocks_.end()) return it->second.get();
-    auto b = std::make_unique<Block>();
-    const bool flushed = !flushed_.empty() && flushed_.contains(id);
-    if (flushed) read_block(id, *b);  // may throw: nothing changed yet
-    Block* raw = b.get();
-    blocks_.emplace(id, std::move(b));
-    if (flushed) {
-      flushed_.erase(id);
-      std::error_code ec;
-      std::filesystem::remove(block_path(id), ec);  // a stale file is harmless: it is overwritten by the next flush
-      ++stats_.blocks_reloaded;
-    }
-    return raw;
-  }
+  // Allocation, flushing and reloading (defined in detail/hashed_block_flush.hpp).
+  Block* find_or_make(std::uint64_t id);
 
   // Flushes the resident blocks with pred(block), in (last_written, id) order; see flush_idle_blocks.
   template <class Pred>
-  std::size_t flush_where(Pred&& pred) {
-    std::vector<std::pair<std::uint32_t, std::uint64_t>> order;
-    for (const auto& [id, b] : blocks_)
-      if (pred(*b)) order.push_back({b->last_written, id});
-    std::sort(order.begin(), order.end());
-    return flush_ids(order, [](std::size_t) { return true; });
-  }
-  void flush_to_budget(std::size_t budget) {
-    std::size_t bytes = memory_bytes();
-    if (bytes <= budget) return;
-    std::vector<std::pair<std::uint32_t, std::uint64_t>> order;
-    for (const auto& [id, b] : blocks_) order.push_back({b->last_written, id});
-    std::sort(order.begin(), order.end());
-    (void)flush_ids(order, [&](std::size_t freed) {
-      if (bytes <= budget) return false;
-      bytes -= std::min(bytes, freed);
-      return true;
-    });
-  }
+  std::size_t flush_where(Pred&& pred);
+  void flush_to_budget(std::size_t budget);
   // Writes the blocks in `order` while more(bytes freed by the previous block) holds.
   template <class More>
-  std::size_t flush_ids(const std::vector<std::pair<std::uint32_t, std::uint64_t>>& order, More&& more) {
-    std::size_t n = 0, freed = 0;
-    cache_.fill(CacheEntry{});
-    for (const auto& [last, id] : order) {
-      if (!more(freed)) break;
-      const auto it = blocks_.find(id);
-      write_block(id, *it->second);  // throws FileError: this block stays resident
-      freed = sizeof(Block) + it->second->states.heap_bytes();
-      blocks_.erase(it);
-      flushed_.insert(id);
-      ++stats_.blocks_written;
-      ++n;
-    }
-    return n;
-  }
+  std::size_t flush_ids(const std::vector<std::pair<std::uint32_t, std::uint64_t>>& order, More&& more);
 
   [[nodiscard]] std::filesystem::path block_path(std::uint64_t id) const {
-    char name[32];
-    std::snprintf(name, sizeof name, "%016llx.blk", static_cast<unsigned long long>(id));
-    return folder_ / name;
+    return detail::block_file_path(folder_, id);
   }
 
   // Creates the per-space folder on first use.
   void ensure_folder() {
     if (!folder_.empty()) return;
-    static std::atomic<std::uint64_t> counter{0};
-    std::error_code ec;
-    std::filesystem::create_directories(setting_.directory, ec);
-    const auto seed = static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
-    for (int attempt = 0; attempt < 64; ++attempt) {
-      const std::filesystem::path p =
-          setting_.directory / ("nbs-blocks-" + std::to_string((seed + counter.fetch_add(1)) % 1000000007ull));
-      ec.clear();
-      if (std::filesystem::create_directory(p, ec)) {
-        folder_ = p;
-        return;
-      }
-      if (ec) break;
-    }
-    throw FileError(detail::concat("HashedBlockBackend: cannot create a block folder in '",
-                                   setting_.directory.string(), "'", ec ? ": " + ec.message() : std::string()));
+    folder_ = detail::create_block_folder<HashedBlockBackend>(setting_.directory);
   }
 
   void fail(const std::string& message) {
@@ -454,60 +346,8 @@ private:
     throw FileError(message);
   }
 
-  void write_block(std::uint64_t id, const Block& b) {
-    try {
-      ensure_folder();
-    } catch (const FileError& e) {
-      fail(e.what());
-    }
-    const std::filesystem::path path = block_path(id);
-    std::filesystem::path tmp = path;
-    tmp += ".tmp";
-    {
-      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out) fail(detail::concat("HashedBlockBackend: cannot open '", tmp.string(), "' for writing"));
-      const auto write = [&out](const void* p, std::size_t n) {
-        out.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
-      };
-      const std::uint32_t header[2] = {kMagic, kVersion};
-      write(header, sizeof header);
-      write(&id, sizeof id);
-      write(b.observed.data(), sizeof(b.observed));
-      b.states.save(write);
-      out.close();
-      if (!out) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
-        fail(detail::concat("HashedBlockBackend: writing '", tmp.string(), "' failed"));
-      }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      fail(detail::concat("HashedBlockBackend: cannot rename '", tmp.string(), "' to '", path.string(),
-                          "': ", ec.message()));
-    }
-  }
-
-  void read_block(std::uint64_t id, Block& b) const {
-    const std::filesystem::path path = block_path(id);
-    std::ifstream in(path, std::ios::binary);
-    const auto read = [&in](void* p, std::size_t n) {
-      in.read(static_cast<char*>(p), static_cast<std::streamsize>(n));
-      return static_cast<bool>(in);
-    };
-    std::uint32_t header[2] = {0, 0};
-    std::uint64_t file_id = 0;
-    const bool ok = in && read(header, sizeof header) && header[0] == kMagic && header[1] == kVersion &&
-                    read(&file_id, sizeof file_id) && file_id == id && read(b.observed.data(), sizeof(b.observed)) &&
-                    b.states.restore(read);
-    if (!ok) throw FileError(detail::concat("HashedBlockBackend: cannot read flushed block '", path.string(), "'"));
-    b.touched.fill(0);
-    b.scan = 0;
-    b.last_written = epoch_;
-  }
+  void write_block(std::uint64_t id, const Block& b);  // detail/hashed_block_flush.hpp
+  void read_block(std::uint64_t id, Block& b) const;    // detail/hashed_block_flush.hpp
 
   void remove_folder() {
     if (folder_.empty()) return;
@@ -567,3 +407,5 @@ private:
 };
 
 }  // namespace nbs
+
+#include "nbs/space/detail/hashed_block_flush.hpp"

@@ -1,0 +1,31 @@
+#pragma once
+/// \file
+/// The flush policy and flush counters of HashedBlockBackend (hashed_block_backend.hpp), which writes cold blocks to
+/// disk and reloads them transparently; see that file for when blocks are flushed and what a failure does.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace nbs {
+
+/// When HashedBlockBackend writes cold blocks to disk. Flushing is on when `directory` is set and idle_scans > 0 or
+/// memory_budget_bytes > 0.
+struct BlockFlushSetting {
+  /// Parent folder; the backend creates its own sub-folder `nbs-blocks-<n>` there at the first flush and deletes it
+  /// when destroyed.
+  std::filesystem::path directory;
+  std::uint32_t idle_scans = 0;           ///< flush blocks not written during the last idle_scans scans (0 = off)
+  std::size_t memory_budget_bytes = 0;    ///< then flush LRU blocks until memory_bytes() ≤ this (0 = off)
+};
+
+/// What flushing has done so far.
+struct BlockFlushStats {
+  std::uint64_t blocks_written = 0;   ///< blocks flushed to disk
+  std::uint64_t blocks_reloaded = 0;  ///< flushed blocks brought back by a write access
+  std::uint64_t failed_writes = 0;    ///< flushes that failed (the block stayed in memory)
+  std::string last_error;             ///< message of the last failed flush ("" if none)
+};
+
+}  // namespace nbs
