@@ -4,7 +4,9 @@
 // Usage: 01_embed_the_planner (exits 1 unless the planner stops itself with ≥ 90 % of the sphere covered)
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <numbers>
 #include <random>
 #include <string>
