@@ -1,8 +1,6 @@
-// 03 — plug in your own utility term. A UtilityTerm is fed every simulated ray and every voxel it crosses
-// (begin_candidate, begin_ray, visit, end_ray, value; nbs/utility/utility_term.hpp). This one counts the unknown
-// voxels a candidate would see for the first time, discounted by how far along the ray they lie — a simple
-// "frontier gain" of our own — and the planner uses it instead of the thesis's f_utility for a few scans of the
-// bundled bunny. Usage: 03_custom_utility_term [scans = 4]
+// 03 — plug in your own utility term: a UtilityTerm sees every simulated ray of a candidate and every voxel it
+// crosses (nbs/utility/utility_term.hpp); wrap it in TermUtility<> and the planner selects scans by it.
+// Usage: 03_custom_utility_term [scans = 4]; exits 1 unless every planned scan had a positive gain and ĉ_m grew.
 
 #include <cstdio>
 #include <cstdlib>
@@ -15,7 +13,9 @@
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/sensor/presets.hpp"
 
-/// Σ over first visits of unobserved voxels of 1 / (1 + distance / 0.1 m). Higher = more new space, nearer.
+/// A "frontier gain" of our own: the unknown voxels a candidate would see for the first time, discounted by how far
+/// along the ray they lie: Σ over first visits of unobserved voxels of 1 / (1 + distance / 0.1 m). Higher = more new
+/// space, nearer.
 struct NearUnknownGain {
   double sum = 0.0;
   void begin_candidate(std::size_t) { sum = 0.0; }
@@ -44,13 +44,18 @@ int main(int argc, char** argv) {
     const nbs::embree::SimulatedScanner scanner(object);
     nbs::SimulationSetting sim;
     sim.max_scans = scans;
-    const auto result = nbs::run_simulation(planner, scanner, sim, [](const nbs::ScanRecord& r) {
+    bool gains_positive = true;
+    const auto result = nbs::run_simulation(planner, scanner, sim, [&](const nbs::ScanRecord& r) {
+      if (r.scan > 1 && !(r.planning.best_utility > 0.0)) gains_positive = false;  // scan 1 is the initial path
       std::printf("scan %d  %s  c_m %.3f  d_m %.3f  candidates %zu  gain of the chosen scan %.1f  t_nbs %.3f s\n",
                   r.scan, std::string(nbs::to_string(r.integration.mode)).c_str(), r.integration.estimated_coverage,
                   r.integration.mean_density, r.planning.evaluated, r.planning.best_utility, r.planning.t_nbs_s);
     });
     std::printf("%zu scans, l_s %.2f m\n", result.records.size(), result.records.back().total_path_length_m);
-    return 0;
+    const double c_first = result.records.front().integration.estimated_coverage;
+    const bool ok = gains_positive && (result.records.size() < 2 || planner.estimated_coverage() > c_first);
+    if (!ok) std::fprintf(stderr, "03_custom_utility_term: a planned scan had no gain or c_m did not grow\n");
+    return ok ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "03_custom_utility_term: %s\n", e.what());
     return 1;

@@ -1,11 +1,6 @@
-// 04 — a thin hardware-driver adapter. Real drivers speak their own units and frames; nbs speaks SI and one frame
-// convention (docs/architecture.md: world z up, sensor +z = viewing direction, a stripe along sensor x, linear scans
-// along sensor y). Convert once, at the boundary, in both directions:
-//   driver → nbs: profiles in millimetres in the head frame H of a (made-up) stripe sensor SDK, whose fan lies in
-//                 H's x–y plane looking along +y, plus robot flange poses T_WF in millimetres → nbs::Scan;
-//   nbs → robot:  the next best scan (sensor poses T_WS) → flange poses T_WF in millimetres to command.
-// The "SDK" here is faked with a flat plate so that the example runs without hardware; the planner is the default
-// NbsPlanner. Usage: 04_driver_adapter
+// 04 — a thin hardware-driver adapter: convert a driver's units and frames to nbs's (SI, docs/architecture.md)
+// once, at the boundary: driver profiles and robot flange poses → nbs::Scan, next best scan → flange poses.
+// Usage: 04_driver_adapter (no hardware: the "SDK" is faked); exits 1 if a conversion or round trip is off.
 
 #include <cmath>
 #include <cstdio>
@@ -15,6 +10,12 @@
 #include "nbs/planner/nbs_planner.hpp"
 #include "nbs/sensor/presets.hpp"
 
+// Both directions:
+//   driver → nbs: profiles in millimetres in the head frame H of a (made-up) stripe sensor SDK, whose fan lies in
+//                 H's x–y plane looking along +y, plus robot flange poses T_WF in millimetres → nbs::Scan (world
+//                 z up, sensor +z = viewing direction, a stripe along sensor x, linear scans along sensor y);
+//   nbs → robot:  the next best scan (sensor poses T_WS) → flange poses T_WF in millimetres to command.
+// The "SDK" is faked with a flat plate; the planner is the default NbsPlanner.
 namespace sdk {  // what a vendor driver might hand out
 struct Point2 {
   float x_mm, y_mm;  // in the head frame H: x along the stripe, y = depth (viewing direction)
@@ -123,16 +124,22 @@ int main() {
               r.mean_density);
   const nbs::PlanResult plan = planner.next_best_scan();
   if (!plan.ok()) {
-    std::printf("no scan planned: %s\n", std::string(nbs::to_string(plan.status)).c_str());
-    return 0;
+    std::fprintf(stderr, "04_driver_adapter: no scan planned: %s\n", std::string(nbs::to_string(plan.status)).c_str());
+    return 1;
   }
   const nbs::LinearScanPath& path = plan.path();
+  double worst_round_trip = 0.0;
   for (const nbs::Pose& T_WS : {path.start().pose(), path.pose_at(1.0)}) {
     const sdk::FlangePose f = adapter::command(T_WS);
     // Round trip: the commanded flange pose puts the sensor back at T_WS.
     const nbs::Pose back = adapter::to_pose(f) * adapter::flange_to_head() * adapter::head_to_sensor();
     std::printf("move flange to (%.1f, %.1f, %.1f) mm, q = (%.4f, %.4f, %.4f, %.4f); sensor pose error %.1e\n",
                 f.x_mm, f.y_mm, f.z_mm, f.qw, f.qx, f.qy, f.qz, (back.matrix() - T_WS.matrix()).norm());
+    worst_round_trip = std::max(worst_round_trip, (back.matrix() - T_WS.matrix()).norm());
   }
-  return 0;
+  // Points are floats in millimetres (≈ 1e-5 mm resolution at 300 mm), poses doubles: both errors must be tiny.
+  const bool ok = worst < 1e-6 && worst_round_trip < 1e-9 && r.points == scan.size();
+  if (!ok) std::fprintf(stderr, "04_driver_adapter: conversion off (plate %.1e m, round trip %.1e)\n", worst,
+                        worst_round_trip);
+  return ok ? 0 : 1;
 }
