@@ -3,7 +3,8 @@
 /// The closed simulation loop of Sec. 4.7: a first scan along one of the 13 initial paths (Sec. 4.7.2, chosen by a
 /// seed), then plan → scan → integrate until the planner is done or n_abort scans were taken. Infinite robot
 /// workspace (Sec. 4.7): every planned path is executed as planned. Core-only: the scanner is any type with
-/// `scan(path, sensor, seed) -> Scan` (e.g. nbs::embree::SimulatedScanner).
+/// `scan(path, sensor, seed) -> Scan` (e.g. nbs::embree::SimulatedScanner, for a LaserStripeProfiler or an
+/// AreaSensor).
 
 #include <concepts>
 #include <cstdint>
@@ -11,12 +12,14 @@
 #include <vector>
 
 #include "nbs/planner/planner_types.hpp"
+#include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sim/detail/random.hpp"
 
 namespace nbs {
 
-/// A simulated (or real) scanner: executes a linear scan path with the sensor and returns the measured Scan.
-/// `seed` selects the noise; the same (path, sensor, seed) must give the same Scan.
+/// A simulated (or real) scanner: executes a linear scan path with the sensor and returns the measured Scan
+/// (valid: `Scan::validate()` passes; world frame, metres). `seed` selects the noise; the same (path, sensor, seed)
+/// must give the same Scan. An area sensor takes one frame at `path.start()` (the utility evaluates it there).
 template <class S, class Sensor>
 concept ScanSimulator = requires(const S& s, const LinearScanPath& path, const Sensor& sensor, std::uint64_t seed) {
   { s.scan(path, sensor, seed) } -> std::same_as<Scan>;
@@ -48,7 +51,8 @@ struct SimulationSetting {
 /// One executed scan of the loop.
 struct ScanRecord {
   int scan = 0;                       ///< 1-based scan number n_s
-  LinearScanPath path;                ///< executed scan path
+  /// Executed scan path: the planned (or initial) path; for an AreaSensor the single viewpoint at its start.
+  LinearScanPath path;
   std::optional<ScanCandidate> candidate;  ///< the planned candidate (empty for the first scan)
   int initial_index = -1;             ///< index of the initial path (first scan only), else −1
   std::size_t points = 0;             ///< points measured
@@ -72,9 +76,23 @@ struct NoScanCallback {
   void operator()(const ScanRecord&) const {}
 };
 
+namespace detail {
+/// The path the loop executes for a planned `path`: as planned for a line sensor; one frame at `path.start()` for an
+/// AreaSensor (the 13 initial paths have length, the planner's area-sensor candidates do not).
+template <class Sensor>
+[[nodiscard]] LinearScanPath executed_scan_path(const LinearScanPath& path) {
+  if constexpr (std::same_as<Sensor, AreaSensor>) {
+    return LinearScanPath(path.start());
+  } else {
+    return path;
+  }
+}
+}  // namespace detail
+
 /// Runs the closed loop: stops when `planner.done()` (its termination criterion; for c_a(30) of Sec. 4.7.2 give
 /// the planner MaxScansReached as termination), after `max_scans` scans, or when no candidate is left. `on_scan(record)` is called after each scan is integrated (progress lines, ground-truth
-/// metrics). Scan i (0-based) uses sensor noise seed splitmix64(seed ^ (0x5CA9 + i)). Throws what the planner or
+/// metrics). Scan i (0-based) uses sensor noise seed splitmix64(seed ^ (0x5CA9 + i)). With an AreaSensor each scan
+/// is one frame at the start of the planned path (`ScanRecord::path` is that single viewpoint, so l_s stays 0). Throws what the planner or
 /// the scanner throw (InvalidArgument for an invalid setting).
 template <LoopPlanner Planner, class Scanner, class Callback = NoScanCallback>
   requires ScanSimulator<Scanner, std::remove_cvref_t<decltype(std::declval<const Planner&>().sensor())>> &&
@@ -84,8 +102,10 @@ SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const 
   setting.validate();
   SimulationResult out;
   double total = 0.0;
-  const auto execute = [&](const LinearScanPath& path, int index, std::optional<ScanCandidate> cand,
+  using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
+  const auto execute = [&](const LinearScanPath& planned, int index, std::optional<ScanCandidate> cand,
                            const IterationStats& plan) {
+    const LinearScanPath path = detail::executed_scan_path<Sensor>(planned);
     ScanRecord rec;
     rec.scan = static_cast<int>(out.records.size()) + 1;
     rec.path = path;

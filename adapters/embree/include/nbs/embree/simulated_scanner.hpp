@@ -26,8 +26,8 @@ struct ScannerSettings {
   RayMode ray_mode = RayMode::packet;
 };
 
-/// Simulates a laser stripe profiler moving along a linear scan path, or an area sensor at a viewpoint, in front
-/// of a mesh. Owns its Scene. `scan` is const and thread-safe.
+/// Simulates a laser stripe profiler moving along a linear scan path, or an area sensor at a viewpoint (or at the
+/// start of a linear scan path), in front of a mesh. Owns its Scene. `scan` is const and thread-safe.
 ///
 /// Measurement model, per ray with unit direction r from the sensor origin o:
 /// - the first surface hit at true distance d (any distance, so nearer surfaces occlude) is measured only if
@@ -65,6 +65,15 @@ public:
       measure(out.profile_poses[k], local, sensor.range, sensor.noise, gauss, static_cast<std::uint32_t>(k), buf,
               out);
     return out;
+  }
+
+  /// One range image of an area sensor executing a scan path, so that the scanner models
+  /// `nbs::ScanSimulator<SimulatedScanner, AreaSensor>` and `run_simulation` closes the loop with an area sensor:
+  /// the image is taken at `path.start()`; the rest of a path of non-zero length (the 13 initial paths, Sec. 4.7.2)
+  /// is ignored — one frame per scan, the viewpoint at which the utility evaluates a moving area sensor too
+  /// (`append_candidate_rays`). Same result as `scan(path.start(), sensor, seed)`.
+  [[nodiscard]] Scan scan(const LinearScanPath& path, const AreaSensor& sensor, std::uint64_t seed) const {
+    return scan(path.start(), sensor, seed);
   }
 
   /// One range image from `view`. Throws InvalidArgument for an invalid sensor.
