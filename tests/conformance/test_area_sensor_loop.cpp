@@ -15,9 +15,7 @@
 namespace {
 
 using nbs::Vec3;
-using AreaPlanner = nbs::NbsPlanner<nbs::ProbabilisticVoxelSpace<>, nbs::StreamingMesh, nbs::BoundaryHoleSpace,
-                                    nbs::IgQualityUtility, nbs::DefaultTermination, nbs::NoCollisions,
-                                    nbs::AreaSensor>;
+using AreaPlanner = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::AreaSensor>;
 
 static_assert(nbs::ScanSimulator<nbs::embree::SimulatedScanner, nbs::AreaSensor>);
 static_assert(nbs::ScanSimulator<nbs::embree::SimulatedScanner, nbs::LaserStripeProfiler>);

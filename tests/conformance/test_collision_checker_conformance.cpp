@@ -46,7 +46,7 @@ TEST_CASE("CollisionChecker conformance: VoxelCollisionChecker", "[conformance][
   c.head = cs.head;
   c.lo = Vec3(-0.2, -0.2, -0.1);
   c.hi = Vec3(0.2, 0.2, 0.34);
-  SECTION("hand-built obstacle voxels (a user's ObstacleVoxelSpace)") {
+  SECTION("hand-built obstacle voxels (a user's VoxelSpace)") {
     const nbs::conformance::HandBuiltObstacles space = nbs::conformance::HandBuiltObstacles::cross();
     c.obstacles = nbs::test::obstacle_boxes(space, cs);
     REQUIRE(c.obstacles.size() > 10);
