@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "nbs/planner/planner_types.hpp"
-#include "nbs/sim/detail/random.hpp"
+#include "nbs/core/detail/random.hpp"
 
 namespace nbs {
 
