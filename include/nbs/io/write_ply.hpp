@@ -10,13 +10,11 @@
 #include <span>
 #include <string>
 
+#include "nbs/io/color.hpp"
 #include "nbs/io/detail/ply_header.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 
 namespace nbs {
-
-/// 8-bit RGB colour of a point.
-using Rgb = std::array<std::uint8_t, 3>;
 
 namespace io_detail {
 
