@@ -29,6 +29,7 @@
 #include "nbs/io/color.hpp"
 #include "nbs/io/json_format.hpp"
 #include "nbs/io/load_mesh.hpp"
+#include "nbs/io/write_candidates_ply.hpp"
 #include "nbs/io/write_ply.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/normalize.hpp"
@@ -166,36 +167,6 @@ std::string numbered(const char* stem, int n, const char* ext) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%s_%02d.%s", stem, n, ext);
   return buf;
-}
-
-/// Candidate paths of one planning step as PLY line segments (Fig. 4.16): a vertex at each path end, one `edge`
-/// per path with its colour (red = lowest utility of the step, green = highest) and utility.
-void write_candidates_ply(const std::string& path, const std::vector<nbs::LinearScanPath>& paths,
-                          const std::vector<double>& utility) {
-  const std::vector<double> u01 = nbs::normalize_utilities(utility);
-  std::ofstream out(path);
-  if (!out) throw nbs::FileError(path + ": cannot open file for writing");
-  out.precision(9);
-  out << "ply\nformat ascii 1.0\ncomment nbs scan candidates of one planning step, coloured by utility (red low, "
-         "green high)\nelement vertex "
-      << 2 * paths.size()
-      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
-         "property uchar blue\nelement edge "
-      << paths.size()
-      << "\nproperty int vertex1\nproperty int vertex2\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
-         "property double utility\nend_header\n";
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const nbs::Rgb c = nbs::utility_color(u01[i]);
-    for (const nbs::Vec3& p : {paths[i].start().position(), paths[i].end_position()})
-      out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]) << '\n';
-  }
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const nbs::Rgb c = nbs::utility_color(u01[i]);
-    out << 2 * i << ' ' << 2 * i + 1 << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]) << ' '
-        << nbs::json_number(utility[i]) << '\n';
-  }
-  out.close();
-  if (!out) throw nbs::FileError(path + ": write failed");
 }
 
 /// Picture of `mesh` (may be empty) with candidate segments; the chosen one (index `chosen`, if any) drawn wider.
