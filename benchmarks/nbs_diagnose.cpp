@@ -34,7 +34,7 @@
 #include "nbs/planner/runtime_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/sensor/presets.hpp"
-#include "nbs/sim/detail/parallel_for.hpp"
+#include "nbs/core/detail/parallel_for.hpp"
 #include "nbs/sim/detail/point_kd_tree.hpp"
 #include "nbs/sim/ground_truth.hpp"
 

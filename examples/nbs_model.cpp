@@ -24,10 +24,12 @@
 #include <vector>
 
 #include "nbs/core/parameters.hpp"
-#include "nbs/embree/png.hpp"
 #include "nbs/embree/render.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
+#include "nbs/io/color.hpp"
+#include "nbs/io/json_format.hpp"
 #include "nbs/io/load_mesh.hpp"
+#include "nbs/io/write_candidates_ply.hpp"
 #include "nbs/io/write_ply.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/normalize.hpp"
@@ -35,7 +37,6 @@
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/metrics.hpp"
 #include "nbs/space/export_ply.hpp"
-#include "nbs/embree/report_json.hpp"
 
 namespace {
 
@@ -168,46 +169,16 @@ std::string numbered(const char* stem, int n, const char* ext) {
   return buf;
 }
 
-/// Candidate paths of one planning step as PLY line segments (Fig. 4.16): a vertex at each path end, one `edge`
-/// per path with its colour (red = lowest utility of the step, green = highest) and utility.
-void write_candidates_ply(const std::string& path, const std::vector<nbs::LinearScanPath>& paths,
-                          const std::vector<double>& utility) {
-  const std::vector<double> u01 = nbs::embree::normalize_utilities(utility);
-  std::ofstream out(path);
-  if (!out) throw nbs::FileError(path + ": cannot open file for writing");
-  out.precision(9);
-  out << "ply\nformat ascii 1.0\ncomment nbs scan candidates of one planning step, coloured by utility (red low, "
-         "green high)\nelement vertex "
-      << 2 * paths.size()
-      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\nproperty uchar green\n"
-         "property uchar blue\nelement edge "
-      << paths.size()
-      << "\nproperty int vertex1\nproperty int vertex2\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
-         "property double utility\nend_header\n";
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const nbs::embree::Rgb8 c = nbs::embree::utility_color(u01[i]);
-    for (const nbs::Vec3& p : {paths[i].start().position(), paths[i].end_position()})
-      out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]) << '\n';
-  }
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const nbs::embree::Rgb8 c = nbs::embree::utility_color(u01[i]);
-    out << 2 * i << ' ' << 2 * i + 1 << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]) << ' '
-        << nbs::embree::json_number(utility[i]) << '\n';
-  }
-  out.close();
-  if (!out) throw nbs::FileError(path + ": write failed");
-}
-
 /// Picture of `mesh` (may be empty) with candidate segments; the chosen one (index `chosen`, if any) drawn wider.
 void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const nbs::embree::Camera& cam,
                    const std::vector<nbs::LinearScanPath>& paths, const std::vector<double>& utility,
                    std::optional<std::size_t> chosen, unsigned threads) {
   std::optional<nbs::embree::Scene> scene;
   if (!mesh.triangles.empty()) scene.emplace(mesh);
-  const std::vector<double> u01 = nbs::embree::normalize_utilities(utility);
+  const std::vector<double> u01 = nbs::normalize_utilities(utility);
   std::vector<nbs::embree::Segment> segs;
   for (std::size_t i = 0; i < paths.size(); ++i)
-    if (i != chosen) segs.push_back({paths[i].start().position(), paths[i].end_position(), nbs::embree::utility_color(u01[i]), 1});
+    if (i != chosen) segs.push_back({paths[i].start().position(), paths[i].end_position(), nbs::utility_color(u01[i]), 1});
   if (chosen) segs.push_back({paths[*chosen].start().position(), paths[*chosen].end_position(), {0, 90, 255}, 3});
   nbs::embree::RenderSetting rs;
   rs.threads = threads;
@@ -448,12 +419,12 @@ int run(const Options& opt) {
               obs_s);
 
   // report.json
-  using embree::json_number;
-  using embree::json_string;
+  using nbs::json_number;
+  using nbs::json_string;
   const auto series = [&](auto get) {
     std::vector<double> v;
     for (const Row& r : rows) v.push_back(static_cast<double>(get(r)));
-    return embree::json_array(v);
+    return nbs::json_array(v);
   };
   std::vector<std::string> modes;
   for (const Row& r : rows) modes.push_back(r.mode);
@@ -472,7 +443,7 @@ int run(const Options& opt) {
      << "    \"candidates\": " << series([](const Row& r) { return r.candidates; }) << ",\n"
      << "    \"utility\": " << series([](const Row& r) { return r.utility; }) << ",\n"
      << "    \"points\": " << series([](const Row& r) { return r.points; }) << ",\n"
-     << "    \"mode\": " << embree::json_array(modes) << "\n  },\n  \"final\": {\n"
+     << "    \"mode\": " << nbs::json_array(modes) << "\n  },\n  \"final\": {\n"
      << "    \"c_a\": " << json_number(fin.c_a) << ",\n    \"c_b\": " << json_number(fin.c_b)
      << ",\n    \"c_obs\": " << json_number(obs.c_obs()) << ",\n    \"e_rms_m\": " << json_number(fin.e_m)
      << ",\n    \"l_s_m\": " << json_number(fin.l_s) << ",\n    \"scans\": " << rows.size()

@@ -17,7 +17,7 @@
 #include "eval/records.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/sim/ground_truth.hpp"
-#include "nbs/sim/detail/random.hpp"
+#include "nbs/core/detail/random.hpp"
 
 namespace nbs::eval {
 

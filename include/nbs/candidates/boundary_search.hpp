@@ -11,7 +11,7 @@
 
 #include "nbs/candidates/candidate_generator.hpp"
 #include "nbs/candidates/detail/boundary_candidate.hpp"
-#include "nbs/sim/detail/parallel_for.hpp"
+#include "nbs/core/detail/parallel_for.hpp"
 
 namespace nbs {
 

@@ -1,76 +1,18 @@
 #pragma once
 /// \file
-/// PLY writers for point clouds (optional normals and colours) and indexed triangle meshes.
+/// PLY writers for point clouds (optional normals and colours) and indexed triangle meshes (on PlyWriter: the
+/// file appears complete or not at all).
 
-#include <array>
-#include <bit>
 #include <cstdint>
-#include <cstring>
-#include <fstream>
 #include <span>
 #include <string>
 
+#include "nbs/io/color.hpp"
 #include "nbs/io/detail/ply_header.hpp"
+#include "nbs/io/ply_writer.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 
 namespace nbs {
-
-/// 8-bit RGB colour of a point.
-using Rgb = std::array<std::uint8_t, 3>;
-
-namespace io_detail {
-
-/// Writes PLY body values in one encoding; coordinates as float64 (`double`) so nothing is lost.
-class PlyWriter {
-public:
-  PlyWriter(const std::string& path, PlyFormat format) : path_(path), format_(format), out_(path, std::ios::binary) {
-    if (!out_) throw FileError(detail::concat(path, ": cannot open file for writing"));
-    out_.precision(17);
-    out_ << "ply\nformat "
-         << (format == PlyFormat::ascii                  ? "ascii"
-             : format == PlyFormat::binary_little_endian ? "binary_little_endian"
-                                                         : "binary_big_endian")
-         << " 1.0\ncomment written by nbs\n";
-  }
-  std::ofstream& header() { return out_; }
-
-  void real(double v) { value(std::bit_cast<std::uint64_t>(v), v); }
-  void u8(std::uint8_t v) { value(v, static_cast<unsigned>(v)); }
-  void u32(std::uint32_t v) { value(v, v); }
-  void end_record() {
-    if (format_ == PlyFormat::ascii) out_ << '\n';
-    first_ = true;
-  }
-  void close() {
-    out_.close();
-    if (!out_) throw FileError(detail::concat(path_, ": write failed"));
-  }
-
-private:
-  template <class U, class Text>
-  void value(U bits, Text text) {
-    if (format_ == PlyFormat::ascii) {
-      if (!first_) out_ << ' ';
-      out_ << text;
-      first_ = false;
-      return;
-    }
-    const bool little = format_ == PlyFormat::binary_little_endian;
-    char b[sizeof(U)];
-    for (std::size_t i = 0; i < sizeof(U); ++i) {
-      const std::size_t shift = 8 * (little ? i : sizeof(U) - 1 - i);
-      b[i] = static_cast<char>((bits >> shift) & 0xFFu);
-    }
-    out_.write(b, sizeof(U));
-  }
-
-  std::string path_;
-  PlyFormat format_;
-  std::ofstream out_;
-  bool first_ = true;
-};
-
-}  // namespace io_detail
 
 /// Writes a point cloud: `vertex` element with double x y z, plus nx ny nz if `normals` is non-empty and
 /// uchar red green blue if `colors` is non-empty (each must then have points.size() entries).
@@ -81,20 +23,24 @@ inline void write_ply_points(const std::string& path, std::span<const Vec3> poin
                   " normals for ", points.size(), " points");
   detail::require(colors.empty() || colors.size() == points.size(), "write_ply_points: ", colors.size(),
                   " colours for ", points.size(), " points");
-  io_detail::PlyWriter w(path, format);
-  w.header() << "element vertex " << points.size() << "\nproperty double x\nproperty double y\nproperty double z\n";
-  if (!normals.empty()) w.header() << "property double nx\nproperty double ny\nproperty double nz\n";
-  if (!colors.empty()) w.header() << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  w.header() << "end_header\n";
+  PlyWriter w(path, format);
+  w.comment("written by nbs");
+  w.element("vertex", points.size());
+  for (const char* name : {"x", "y", "z"}) w.property(PlyType::f64, name);
+  if (!normals.empty())
+    for (const char* name : {"nx", "ny", "nz"}) w.property(PlyType::f64, name);
+  if (!colors.empty())
+    for (const char* name : {"red", "green", "blue"}) w.property(PlyType::u8, name);
+  w.end_header();
   for (std::size_t i = 0; i < points.size(); ++i) {
-    for (int k = 0; k < 3; ++k) w.real(points[i][k]);
+    for (int k = 0; k < 3; ++k) w.value(points[i][k]);
     if (!normals.empty())
-      for (int k = 0; k < 3; ++k) w.real(normals[i][k]);
+      for (int k = 0; k < 3; ++k) w.value(normals[i][k]);
     if (!colors.empty())
-      for (std::uint8_t c : colors[i]) w.u8(c);
+      for (std::uint8_t c : colors[i]) w.value(c);
     w.end_record();
   }
-  w.close();
+  w.finish();
 }
 
 /// Writes an indexed triangle mesh (double x y z; faces as `list uchar uint vertex_indices`).
@@ -102,20 +48,23 @@ inline void write_ply_points(const std::string& path, std::span<const Vec3> poin
 inline void write_ply(const std::string& path, const IndexedMesh& mesh,
                       PlyFormat format = PlyFormat::binary_little_endian) {
   mesh.validate();
-  io_detail::PlyWriter w(path, format);
-  w.header() << "element vertex " << mesh.vertices.size()
-             << "\nproperty double x\nproperty double y\nproperty double z\nelement face " << mesh.triangles.size()
-             << "\nproperty list uchar uint vertex_indices\nend_header\n";
+  PlyWriter w(path, format);
+  w.comment("written by nbs");
+  w.element("vertex", mesh.vertices.size());
+  for (const char* name : {"x", "y", "z"}) w.property(PlyType::f64, name);
+  w.element("face", mesh.triangles.size());
+  w.list_property(PlyType::u8, PlyType::u32, "vertex_indices");
+  w.end_header();
   for (const Vec3& v : mesh.vertices) {
-    for (int k = 0; k < 3; ++k) w.real(v[k]);
+    for (int k = 0; k < 3; ++k) w.value(v[k]);
     w.end_record();
   }
   for (const auto& t : mesh.triangles) {
-    w.u8(3);
-    for (std::uint32_t i : t) w.u32(i);
+    w.value(std::uint8_t{3});
+    for (std::uint32_t i : t) w.value(i);
     w.end_record();
   }
-  w.close();
+  w.finish();
 }
 
 }  // namespace nbs

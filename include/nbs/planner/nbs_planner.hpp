@@ -23,7 +23,7 @@
 #include "nbs/planner/planner_types.hpp"
 #include "nbs/planner/search_policy.hpp"
 #include "nbs/planner/utility_policy.hpp"
-#include "nbs/sim/detail/random.hpp"
+#include "nbs/core/detail/random.hpp"
 
 namespace nbs {
 

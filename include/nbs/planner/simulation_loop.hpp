@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "nbs/planner/planner_types.hpp"
+#include "nbs/core/detail/random.hpp"
 #include "nbs/sensor/area_sensor.hpp"
-#include "nbs/sim/detail/random.hpp"
 
 namespace nbs {
 

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "nbs/sim/detail/parallel_for.hpp"
+#include "nbs/core/detail/parallel_for.hpp"
 #include "nbs/sim/detail/point_kd_tree.hpp"
 #include "nbs/sim/surface_samples.hpp"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "nbs/core/scan_path.hpp"
-#include "nbs/sim/detail/random.hpp"
+#include "nbs/core/detail/random.hpp"
 
 namespace nbs {
 

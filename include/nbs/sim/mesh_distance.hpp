@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "nbs/mesh/indexed_mesh.hpp"
-#include "nbs/sim/detail/parallel_for.hpp"
+#include "nbs/core/detail/parallel_for.hpp"
 #include "nbs/sim/detail/point_kd_tree.hpp"
 #include "nbs/sim/point_triangle_distance.hpp"
 

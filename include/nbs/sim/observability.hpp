@@ -8,7 +8,7 @@
 #include <numbers>
 #include <vector>
 
-#include "nbs/sim/detail/parallel_for.hpp"
+#include "nbs/core/detail/parallel_for.hpp"
 #include "nbs/sim/ray_caster.hpp"
 #include "nbs/sim/surface_samples.hpp"
 

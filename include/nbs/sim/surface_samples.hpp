@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "nbs/mesh/indexed_mesh.hpp"
-#include "nbs/sim/detail/random.hpp"
+#include "nbs/core/detail/random.hpp"
 
 namespace nbs {
 

@@ -3,17 +3,15 @@
 /// Export of the voxel space as a PLY point set: one vertex per voxel centre with its occupancy probability p and
 /// a grey level 255·p (black = free, grey = unknown, white = occupied, as in the thesis figures).
 
-#include <bit>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <string>
-#include <system_error>
+#include <sstream>
 #include <vector>
 
 #include "nbs/core/error.hpp"
+#include "nbs/io/ply_writer.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 
 namespace nbs {
@@ -26,13 +24,13 @@ struct PlyExportSetting {
 };
 
 /// Writes `space` to `path` as binary little-endian PLY (x y z float metres, red green blue uchar, p float).
-/// Writes a temporary file next to `path` and renames it into place, so a failed write leaves `path` untouched.
+/// Writes a temporary file next to `path` and renames it into place (PlyWriter), so a failed write leaves `path`
+/// untouched.
 /// Returns the number of voxels written. Throws FileError on I/O failure, InvalidArgument if the voxel count
 /// exceeds setting.max_voxels.
 template <class B, class M>
 std::uint64_t write_voxels_ply(const ProbabilisticVoxelSpace<B, M>& space, const std::filesystem::path& path,
                                const PlyExportSetting& setting = {}) {
-  static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
   struct Rec {
     float x, y, z;
     std::uint8_t r, g, b;
@@ -56,34 +54,22 @@ std::uint64_t write_voxels_ply(const ProbabilisticVoxelSpace<B, M>& space, const
     detail::require(observed_count(space.backend()) <= setting.max_voxels, "write_voxels_ply: too many voxels");
     space.for_each([&](const VoxelKey& k, const auto& s) { add(k, space.model().probability(s)); });
   }
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw FileError(detail::concat("write_voxels_ply: cannot open ", tmp.string()));
-    out << "ply\nformat binary_little_endian 1.0\ncomment nbs probabilistic voxel space, edge "
-        << space.resolution_m() << " m\nelement vertex " << recs.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
-           "property uchar blue\nproperty float p\nend_header\n";
-    for (const Rec& r : recs) {
-      out.write(reinterpret_cast<const char*>(&r.x), 12);
-      out.write(reinterpret_cast<const char*>(&r.r), 3);
-      out.write(reinterpret_cast<const char*>(&r.p), 4);
-    }
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw FileError(detail::concat("write_voxels_ply: write to ", tmp.string(), " failed"));
-    }
+  std::ostringstream comment;  // the edge length with the stream's default 6 significant digits
+  comment << "nbs probabilistic voxel space, edge " << space.resolution_m() << " m";
+  PlyWriter w(path, PlyFormat::binary_little_endian);
+  w.comment(comment.str());
+  w.element("vertex", recs.size());
+  for (const char* name : {"x", "y", "z"}) w.property(PlyType::f32, name);
+  for (const char* name : {"red", "green", "blue"}) w.property(PlyType::u8, name);
+  w.property(PlyType::f32, "p");
+  w.end_header();
+  for (const Rec& r : recs) {
+    w.value(r.x), w.value(r.y), w.value(r.z);
+    w.value(r.r), w.value(r.g), w.value(r.b);
+    w.value(r.p);
+    w.end_record();
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw FileError(detail::concat("write_voxels_ply: cannot rename to ", path.string()));
-  }
+  w.finish();
   return recs.size();
 }
 

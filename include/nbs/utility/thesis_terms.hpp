@@ -11,7 +11,7 @@
 #include <numbers>
 
 #include "nbs/core/error.hpp"
-#include "nbs/sim/detail/random.hpp"
+#include "nbs/core/detail/random.hpp"
 #include "nbs/utility/utility_function.hpp"
 #include "nbs/utility/utility_term.hpp"
 

@@ -15,9 +15,17 @@ namespace nbs {
 /// Body encoding of a PLY file.
 enum class PlyFormat { ascii, binary_little_endian, binary_big_endian };
 
+/// Scalar type of a PLY property (int8 … float64; the header spells them char uchar short ushort int uint float
+/// double).
+enum class PlyType : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+
 namespace io_detail {
 
-enum class PlyType : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+/// The classic header name of `t` ("uchar", "double", ...), as the writers spell it.
+[[nodiscard]] inline std::string_view ply_type_name(PlyType t) {
+  constexpr std::string_view names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
+  return names[static_cast<int>(t)];
+}
 
 [[nodiscard]] inline std::size_t ply_type_size(PlyType t) {
   constexpr std::size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};

@@ -16,8 +16,9 @@
 
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
-#include "nbs/embree/png.hpp"
 #include "nbs/embree/scene.hpp"
+#include "nbs/io/color.hpp"
+#include "nbs/io/png.hpp"
 
 namespace nbs::embree {
 
@@ -65,14 +66,14 @@ struct Camera {
 /// A 3D segment drawn as a 2D line of `width_px` (1–3) pixels.
 struct Segment {
   Vec3 a, b;
-  Rgb8 color{255, 0, 0};
+  Rgb color{255, 0, 0};
   int width_px = 1;
 };
 
 struct RenderSetting {
   std::uint32_t width = 480, height = 360;
-  Rgb8 background{255, 255, 255};
-  Rgb8 surface{205, 205, 215};   ///< albedo of the mesh
+  Rgb background{255, 255, 255};
+  Rgb surface{205, 205, 215};    ///< albedo of the mesh
   double ambient = 0.15;         ///< share of the albedo shown regardless of the light, [0, 1]
   unsigned threads = 1;          ///< std::threads over image rows, [1, 256]; the image does not depend on it
 
@@ -92,7 +93,7 @@ struct Image {
   [[nodiscard]] std::size_t hit_count() const {
     return static_cast<std::size_t>(std::count_if(depth.begin(), depth.end(), [](float d) { return std::isfinite(d); }));
   }
-  void write_png(const std::filesystem::path& path) const { embree::write_png(path, width, height, rgb); }
+  void write_png(const std::filesystem::path& path) const { nbs::write_png(path, width, height, rgb); }
 };
 
 namespace render_detail {
@@ -147,7 +148,7 @@ struct Frame {  // camera basis: right, image-up, forward
       if (cam.orthographic) origin += fr.half_h * (x * fr.r + y * fr.u);
       else dir = (fr.f + fr.tan_half * (x * fr.r + y * fr.u)).normalized();
       const std::size_t k = std::size_t(j) * s.width + i;
-      Rgb8 c = s.background;
+      Rgb c = s.background;
       if (scene != nullptr) {
         if (const auto hit = scene->first_hit(origin, dir)) {
           img.depth[k] = static_cast<float>(hit->distance);
@@ -167,7 +168,7 @@ struct Frame {  // camera basis: right, image-up, forward
     shade_rows(0, std::uint32_t(s.height / n));
     for (std::thread& th : pool) th.join();
   }
-  const auto plot = [&](long x, long y, const Rgb8& c) {
+  const auto plot = [&](long x, long y, const Rgb& c) {
     if (x < 0 || y < 0 || x >= long(s.width) || y >= long(s.height)) return;
     std::copy(c.begin(), c.end(), img.rgb.begin() + static_cast<std::ptrdiff_t>(3 * (std::size_t(y) * s.width + x)));
   };

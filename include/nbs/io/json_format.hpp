@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace nbs::embree {
+namespace nbs {
 
 /// `v` with 17 significant digits (round-trips through strtod), or `null` if not finite.
 [[nodiscard]] inline std::string json_number(double v) {
@@ -57,4 +57,4 @@ namespace nbs::embree {
   return out + "]";
 }
 
-}  // namespace nbs::embree
+}  // namespace nbs

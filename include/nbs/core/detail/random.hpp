@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// Portable seeded random numbers for the simulation metrics: std::mt19937_64 (its output sequence is fixed by the
-/// standard) and our own conversions, so a seed gives the same samples with every standard library.
+/// Portable seeded random numbers (simulation metrics, planner and utility seeds): std::mt19937_64 (its output
+/// sequence is fixed by the standard) and our own conversions, so a seed gives the same samples with every standard
+/// library.
 
 #include <cstdint>
 #include <random>

@@ -2,12 +2,10 @@
 /// \file
 /// A minimal PNG encoder (8-bit RGB, no interlace) without a zlib dependency: the image data is stored in
 /// uncompressed deflate blocks (RFC 1951 BTYPE = 00) inside a zlib stream (RFC 1950, Adler-32), each chunk with its
-/// CRC-32 (ISO 3309 polynomial 0xEDB88320, reflected). Plus the colour map of the candidate pictures (Fig. 4.16).
-/// Header-only, no Embree needed; lives in the Embree adapter next to the renderer that uses it.
+/// CRC-32 (ISO 3309 polynomial 0xEDB88320, reflected).
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -17,32 +15,10 @@
 
 #include "nbs/core/error.hpp"
 
-namespace nbs::embree {
+namespace nbs {
 
-/// 8-bit RGB colour.
-using Rgb8 = std::array<std::uint8_t, 3>;
-
-/// Colour of a normalised utility u ∈ [0, 1]: red (u = 0, low) → yellow (0.5) → green (u = 1, high), as in
-/// Fig. 4.16. Values outside [0, 1] are clamped; NaN maps to red.
-[[nodiscard]] inline Rgb8 utility_color(double u) {
-  const double t = std::isnan(u) ? 0.0 : std::clamp(u, 0.0, 1.0);
-  const auto c = [](double v) { return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0))); };
-  return {c(2.0 * (1.0 - t)), c(2.0 * t), 0};
-}
-
-/// Normalises `values` to [0, 1] by min/max (all equal → 1, i.e. green); non-finite values give 0.
-[[nodiscard]] inline std::vector<double> normalize_utilities(std::span<const double> values) {
-  double lo = INFINITY, hi = -INFINITY;
-  for (double v : values)
-    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-  std::vector<double> out(values.size(), 0.0);
-  for (std::size_t i = 0; i < values.size(); ++i)
-    if (std::isfinite(values[i])) out[i] = hi > lo ? (values[i] - lo) / (hi - lo) : 1.0;
-  return out;
-}
-
-namespace png_detail {
-[[nodiscard]] inline std::uint32_t crc32(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0) {
+namespace io_detail {
+[[nodiscard]] inline std::uint32_t png_crc32_update(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0) {
   static const std::array<std::uint32_t, 256> table = [] {
     std::array<std::uint32_t, 256> t{};
     for (std::uint32_t n = 0; n < 256; ++n) {
@@ -56,28 +32,30 @@ namespace png_detail {
   for (std::uint8_t b : bytes) crc = table[(crc ^ b) & 0xFFu] ^ (crc >> 8);
   return ~crc;
 }
-inline void put32(std::vector<std::uint8_t>& v, std::uint32_t x) {
+inline void png_put32(std::vector<std::uint8_t>& v, std::uint32_t x) {
   for (int s = 24; s >= 0; s -= 8) v.push_back(static_cast<std::uint8_t>(x >> s));
 }
-inline void chunk(std::vector<std::uint8_t>& out, std::string_view type, std::span<const std::uint8_t> data) {
-  put32(out, static_cast<std::uint32_t>(data.size()));
+inline void png_chunk(std::vector<std::uint8_t>& out, std::string_view type, std::span<const std::uint8_t> data) {
+  png_put32(out, static_cast<std::uint32_t>(data.size()));
   const std::size_t start = out.size();
   out.insert(out.end(), type.begin(), type.end());
   out.insert(out.end(), data.begin(), data.end());
-  put32(out, crc32(std::span(out).subspan(start)));
+  png_put32(out, png_crc32_update(std::span(out).subspan(start)));
 }
-}  // namespace png_detail
+}  // namespace io_detail
 
 /// CRC-32 of `bytes` as used by PNG chunks (and zlib's crc32).
-[[nodiscard]] inline std::uint32_t png_crc32(std::span<const std::uint8_t> bytes) { return png_detail::crc32(bytes); }
+[[nodiscard]] inline std::uint32_t png_crc32(std::span<const std::uint8_t> bytes) {
+  return io_detail::png_crc32_update(bytes);
+}
 
 /// Encodes a row-major 8-bit RGB image (`rgb.size() == 3·width·height`, top row first) as a PNG file in memory.
 /// Throws InvalidArgument for a zero or too large size or a size mismatch.
 [[nodiscard]] inline std::vector<std::uint8_t> encode_png(std::uint32_t width, std::uint32_t height,
                                                           std::span<const std::uint8_t> rgb) {
-  nbs::detail::require(width > 0 && height > 0 && width <= 65535 && height <= 65535, "encode_png: size ", width, " x ",
+  detail::require(width > 0 && height > 0 && width <= 65535 && height <= 65535, "encode_png: size ", width, " x ",
                   height, " must be in [1, 65535] per side");
-  nbs::detail::require(rgb.size() == 3ull * width * height, "encode_png: ", rgb.size(), " bytes for ", width, " x ", height,
+  detail::require(rgb.size() == 3ull * width * height, "encode_png: ", rgb.size(), " bytes for ", width, " x ", height,
                   " RGB pixels");
   std::vector<std::uint8_t> raw;  // filter byte 0 (None) + row
   raw.reserve((3ull * width + 1) * height);
@@ -99,15 +77,15 @@ inline void chunk(std::vector<std::uint8_t>& out, std::string_view type, std::sp
     pos += n;
     if (last) break;
   }
-  png_detail::put32(z, (b << 16) | a);
+  io_detail::png_put32(z, (b << 16) | a);
   std::vector<std::uint8_t> out{0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   std::vector<std::uint8_t> ihdr;
-  png_detail::put32(ihdr, width);
-  png_detail::put32(ihdr, height);
+  io_detail::png_put32(ihdr, width);
+  io_detail::png_put32(ihdr, height);
   ihdr.insert(ihdr.end(), {8, 2, 0, 0, 0});  // bit depth 8, colour type 2 (RGB), deflate, filter 0, no interlace
-  png_detail::chunk(out, "IHDR", ihdr);
-  png_detail::chunk(out, "IDAT", z);
-  png_detail::chunk(out, "IEND", {});
+  io_detail::png_chunk(out, "IHDR", ihdr);
+  io_detail::png_chunk(out, "IDAT", z);
+  io_detail::png_chunk(out, "IEND", {});
   return out;
 }
 
@@ -116,10 +94,10 @@ inline void write_png(const std::filesystem::path& path, std::uint32_t width, st
                       std::span<const std::uint8_t> rgb) {
   const std::vector<std::uint8_t> bytes = encode_png(width, height, rgb);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw FileError(nbs::detail::concat(path.string(), ": cannot open file for writing"));
+  if (!out) throw FileError(detail::concat(path.string(), ": cannot open file for writing"));
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   out.close();
-  if (!out) throw FileError(nbs::detail::concat(path.string(), ": write failed"));
+  if (!out) throw FileError(detail::concat(path.string(), ": write failed"));
 }
 
-}  // namespace nbs::embree
+}  // namespace nbs
