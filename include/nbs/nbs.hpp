@@ -25,13 +25,18 @@
 #include "nbs/candidates/scan_candidate.hpp"
 #include "nbs/candidates/sphere_generator.hpp"
 #include "nbs/candidates/sphere_search.hpp"
+
 #include "nbs/core.hpp"
+
 #include "nbs/core/error.hpp"
 #include "nbs/core/parameters.hpp"
 #include "nbs/core/scan.hpp"
 #include "nbs/core/scan_path.hpp"
 #include "nbs/core/types.hpp"
 #include "nbs/core/viewpoint.hpp"
+
+#include "nbs/coverage/coverage_estimator.hpp"
+
 #include "nbs/io/color.hpp"
 #include "nbs/io/json_format.hpp"
 #include "nbs/io/load_mesh.hpp"
@@ -41,6 +46,7 @@
 #include "nbs/io/read_ply.hpp"
 #include "nbs/io/write_candidates_ply.hpp"
 #include "nbs/io/write_ply.hpp"
+
 #include "nbs/mesh/boundaries.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/density.hpp"
@@ -52,13 +58,16 @@
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/mesh/ply.hpp"
 #include "nbs/mesh/streaming_mesh.hpp"
+#include "nbs/mesh/streaming_mesh_settings.hpp"
 #include "nbs/mesh/surface_features.hpp"
+
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sensor/range_noise.hpp"
 #include "nbs/sensor/working_range.hpp"
+
 #include "nbs/sim/completeness.hpp"
 #include "nbs/sim/ground_truth.hpp"
 #include "nbs/sim/initial_scan_paths.hpp"
@@ -69,20 +78,29 @@
 #include "nbs/sim/ray_caster.hpp"
 #include "nbs/sim/scan_path_length.hpp"
 #include "nbs/sim/surface_samples.hpp"
+
 #include "nbs/space/all.hpp"
 #include "nbs/space/backend.hpp"
+#include "nbs/space/block_flush.hpp"
 #include "nbs/space/block_states.hpp"
+#include "nbs/space/concepts.hpp"
 #include "nbs/space/export_ply.hpp"
 #include "nbs/space/hashed_block_backend.hpp"
+#include "nbs/space/key_slots.hpp"
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
+#include "nbs/space/ray_cast.hpp"
 #include "nbs/space/ray_traversal.hpp"
+#include "nbs/space/space_types.hpp"
 #include "nbs/space/surface_features.hpp"
 #include "nbs/space/thesis_model.hpp"
+#include "nbs/space/unknown_area_grid.hpp"
 #include "nbs/space/update_model.hpp"
 #include "nbs/space/voxel_key.hpp"
+
 #include "nbs/termination/criteria.hpp"
 #include "nbs/termination/process_control.hpp"
+
 #include "nbs/utility/all.hpp"
 #include "nbs/utility/candidate_rays.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
