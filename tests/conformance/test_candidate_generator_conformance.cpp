@@ -4,6 +4,7 @@
 
 #include "../mesh/mesh_test_util.hpp"
 #include "nbs/candidates/generators.hpp"
+#include "nbs/space/probabilistic_voxel_space.hpp"
 
 namespace {
 

@@ -6,47 +6,16 @@
 
 #include "../embree/analytic_meshes.hpp"
 #include "../mesh/mesh_test_util.hpp"
+#include "indexed_edge_mesh.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 
 namespace {
 
+using nbs::conformance::IndexedEdgeMesh;
 using nbs::MeshEdge;
 using nbs::MeshFace;
 using nbs::VertexId;
 using nbs::Vec3;
-
-/// The user-written edge mesh: an IndexedMesh (consistently oriented, manifold edges) with a directed-edge map.
-class IndexedEdgeMesh {
-public:
-  explicit IndexedEdgeMesh(nbs::IndexedMesh m) : m_(std::move(m)) {
-    for (const auto& t : m_.triangles)
-      for (int k = 0; k < 3; ++k) left_[{t[k], t[(k + 1) % 3]}] = t[(k + 2) % 3];
-  }
-  [[nodiscard]] std::size_t vertex_count() const { return m_.vertices.size(); }
-  [[nodiscard]] Vec3 position(VertexId v) const { return m_.vertices[v]; }
-  [[nodiscard]] Vec3 normal(VertexId) const { return Vec3::UnitZ(); }  // a plane facing +z
-  [[nodiscard]] std::size_t face_count() const { return m_.triangles.size(); }
-  [[nodiscard]] VertexId left_vertex(VertexId a, VertexId b) const {
-    const auto it = left_.find({a, b});
-    return it == left_.end() ? nbs::kNoVertex : it->second;
-  }
-  template <class F>
-  void for_each_edge(F&& f) const {
-    for (const auto& [e, l] : left_)
-      if (e.first < e.second || left_vertex(e.second, e.first) == nbs::kNoVertex) {
-        const VertexId a = std::min(e.first, e.second), b = std::max(e.first, e.second);
-        f(MeshEdge{a, b, left_vertex(a, b), left_vertex(b, a)});
-      }
-  }
-  template <class F>
-  void for_each_face(F&& f) const {
-    for (const auto& t : m_.triangles) f(MeshFace{t[0], t[1], t[2]});
-  }
-
-private:
-  nbs::IndexedMesh m_;
-  std::map<std::pair<VertexId, VertexId>, VertexId> left_;
-};
 
 }  // namespace
 
