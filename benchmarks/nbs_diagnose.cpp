@@ -341,11 +341,9 @@ int run(const Options& opt) {
   ps.seed = opt.seed;
   ps.sampling = opt.sampling;
   const RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
-  StreamingMeshSettings mesh_settings = StreamingMeshSettings::from(params, unknown);
-  if (models.noise_robust_mesh) mesh_settings = NoiseRobustStreamingMesh::robust(mesh_settings);
   NbsPlanner<DiagnosticUtility, Search, LaserStripeProfiler, NoCollisions, MaxScansReached, ProbabilisticVoxelSpace<>,
              Mesh, SelectableCoverage>
-      planner(params, presets::dlr_lsp(), unknown, ps, mesh_settings);
+      planner(params, presets::dlr_lsp(), unknown, ps, models.mesh_settings(params, unknown));
   planner.coverage.setting.form = models.coverage_estimate;
   planner.termination = MaxScansReached(opt.scans);
   CoverageTracker cov = truth.tracker();

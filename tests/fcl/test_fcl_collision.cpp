@@ -7,6 +7,7 @@
 #include <random>
 
 #include "box_oracle.hpp"
+#include "conformance/collision_spaces.hpp"
 #include "nbs/fcl/collision_checker.hpp"
 
 namespace {
@@ -15,20 +16,7 @@ using nbs::Pose;
 using nbs::Vec3;
 using Space = nbs::ProbabilisticVoxelSpace<>;
 
-// Occupied plate at z ∈ [0.05, 0.06), a free column (p = 0.01) above it, unknown voxels elsewhere in the bounds.
-Space plate_space() {
-  nbs::ThesisModel::Setting ms;
-  ms.prob_free = 0.01;
-  Space space(0.01, Aabb{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)}, nbs::ThesisModel(ms));
-  nbs::Scan scan;
-  Pose o = Pose::Identity();
-  o.translation() = Vec3(0, 0, 0.6);
-  scan.profile_poses.push_back(o);
-  for (int y = -6; y < 6; ++y)
-    for (int x = -6; x < 6; ++x) scan.add_point(space.grid().center({x, y, 5}), 0);
-  (void)space.integrate(scan);
-  return space;
-}
+using nbs::conformance::plate_space;
 
 Pose random_pose(std::mt19937_64& rng) {
   return nbs::test::random_pose(rng, Vec3(-0.2, -0.2, -0.1), Vec3(0.2, 0.2, 0.34));

@@ -10,6 +10,7 @@
 #include "nbs/space/log_odds_model.hpp"
 #include "octomap/classification_agreement.hpp"
 #include "planner/support/analytic_scanner.hpp"
+#include "planner/support/same_plan.hpp"
 #include "space/support/voxel_space_conformance.hpp"
 
 namespace {
@@ -40,14 +41,7 @@ TEST_CASE("NbsPlanner over the OctoMap space plans the scans of the native space
   const auto a = nbs::run_simulation(tree, sphere, sim);
   const auto b = nbs::run_simulation(native, sphere, sim);
   REQUIRE(a.records.size() == 4);
-  REQUIRE(b.records.size() == 4);
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    INFO("scan " << i + 1);
-    CHECK(a.records[i].path.start().pose().matrix() == b.records[i].path.start().pose().matrix());
-    CHECK(a.records[i].path.end_position() == b.records[i].path.end_position());
-    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
-    CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
-  }
+  nbs::test::check_same_plan(a, b);
   CHECK(tree.features().size() == native.features().size());
   CHECK(tree.features().size() > 0);
   CHECK(a.records.back().integration.estimated_coverage > a.records.front().integration.estimated_coverage);

@@ -13,6 +13,7 @@
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/sensor/presets.hpp"
+#include "support/same_plan.hpp"
 
 namespace {
 
@@ -56,14 +57,7 @@ TEST_CASE("bunny loop: same seed gives the same scan sequence with 1 and 2 threa
   const auto a = nbs::run_simulation(p1, scanner, sim);
   const auto b = nbs::run_simulation(p2, scanner, sim);
   REQUIRE(a.records.size() == 4);
-  REQUIRE(b.records.size() == 4);
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    INFO("scan " << i + 1);
-    CHECK(a.records[i].path.start().pose().matrix() == b.records[i].path.start().pose().matrix());
-    CHECK(a.records[i].path.end_position() == b.records[i].path.end_position());
-    CHECK(a.records[i].points == b.records[i].points);
-    CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
-  }
+  nbs::test::check_same_plan(a, b);
 }
 
 // The acceptance target of issue 5, default NbsPlanner<> (noise-robust mesh, unseen_open ĉ_m). Release (2 threads):

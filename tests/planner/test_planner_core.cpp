@@ -13,6 +13,7 @@
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "support/analytic_scanner.hpp"
+#include "support/same_plan.hpp"
 
 namespace {
 
@@ -36,8 +37,6 @@ nbs::PlannerSetting setting(unsigned threads) {
   return s;
 }
 
-bool same_pose(const nbs::Pose& a, const nbs::Pose& b) { return a.matrix() == b.matrix(); }
-
 nbs::SimulationSetting loop_setting(std::uint64_t seed, int max_scans) {
   nbs::SimulationSetting sim;
   sim.seed = seed;
@@ -45,19 +44,7 @@ nbs::SimulationSetting loop_setting(std::uint64_t seed, int max_scans) {
   return sim;
 }
 
-/// Two loop results describe the same plan: same paths, ĉ_m, best utility and candidate count at every scan.
-template <class Result>
-void check_same_plan(const Result& a, const Result& b) {
-  REQUIRE(a.records.size() == b.records.size());
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    INFO("scan " << i + 1);
-    CHECK(same_pose(a.records[i].path.start().pose(), b.records[i].path.start().pose()));
-    CHECK(a.records[i].path.end_position() == b.records[i].path.end_position());
-    CHECK(a.records[i].integration.estimated_coverage == b.records[i].integration.estimated_coverage);
-    CHECK(a.records[i].planning.best_utility == b.records[i].planning.best_utility);
-    CHECK(a.records[i].planning.evaluated == b.records[i].planning.evaluated);
-  }
-}
+using nbs::test::check_same_plan;
 
 }  // namespace
 

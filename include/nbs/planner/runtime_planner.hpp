@@ -98,6 +98,12 @@ struct RuntimeModels {
   CoverageEstimate coverage_estimate = CoverageEstimate::unseen_open;
   /// The thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4) together: the unseen forms are meaningless on the layered mesh.
   [[nodiscard]] static RuntimeModels thesis() { return {false, CoverageEstimate::thesis}; }
+  /// The StreamingMesh settings of this choice over `box` (the pass-through box): StreamingMeshSettings::from, made
+  /// noise-robust (NoiseRobustStreamingMesh::robust) if noise_robust_mesh. Throws InvalidArgument for bad params.
+  [[nodiscard]] StreamingMeshSettings mesh_settings(const Parameters& params, const Aabb& box) const {
+    const StreamingMeshSettings s = StreamingMeshSettings::from(params, box);
+    return noise_robust_mesh ? NoiseRobustStreamingMesh::robust(s) : s;
+  }
   bool operator==(const RuntimeModels&) const = default;
 };
 
@@ -162,9 +168,8 @@ private:
   template <SearchSpace S>
   static Variant build(Selection sel, const Parameters& params, const LaserStripeProfiler& sensor, const Aabb& box,
                        const PlannerSetting& setting, const RuntimeModels& models) {
-    StreamingMeshSettings mesh = StreamingMeshSettings::from(params, box);
-    if (models.noise_robust_mesh) mesh = NoiseRobustStreamingMesh::robust(mesh);
-    Variant v(std::in_place_type<RuntimePlannerOf<S>>, params, sensor, box, setting, mesh);
+    Variant v(std::in_place_type<RuntimePlannerOf<S>>, params, sensor, box, setting,
+              models.mesh_settings(params, box));
     auto& p = std::get<RuntimePlannerOf<S>>(v);
     p.utility.setting.selection = sel;
     p.coverage.setting.form = models.coverage_estimate;

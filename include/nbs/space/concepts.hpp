@@ -6,7 +6,7 @@
 ///
 /// | concept | what | models |
 /// |---|---|---|
-/// | `VoxelSpace` | integrate scans; p / occupied / observed per key; key ↔ position; planning ray casts | ProbabilisticVoxelSpace (any backend), a user space (tests/space/test_voxel_space_concept.cpp) |
+/// | `VoxelSpace` | integrate scans; p / occupied / observed per key; key ↔ position; planning ray casts | ProbabilisticVoxelSpace (any backend), a user space (examples/my_voxel_space.hpp) |
 /// | `BatchRayCastingSpace` | `cast_rays(rays, threads, visit)`, identical for any thread count | ProbabilisticVoxelSpace |
 /// | `NoiseModelSpace` | built with a sensor-noise σ(d) (the thesis's inverse sensor model, Sec. 3.3.2) | ProbabilisticVoxelSpace<B, ThesisModel> |
 /// | `BlockBackend` | storage in blocks of kEdge³ voxels with per-scan touched bits and cached readers | HashedBlockBackend |
