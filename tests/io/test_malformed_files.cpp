@@ -21,6 +21,17 @@ struct Case {
   const char* message;
 };
 
+/// Each case, written to "<name><ext>", makes `read` throw FileError naming the file and containing the message.
+template <class Read>
+void check_rejected(const std::vector<Case>& cases, const std::string& ext, Read read) {
+  for (const auto& c : cases) {
+    INFO(c.name);
+    const std::string path = nbs_test::write_temp(std::string(c.name) + ext, c.text);
+    CHECK_THROWS_AS(read(path), nbs::FileError);
+    CHECK_THROWS_WITH(read(path), Contains(path) && Contains(c.message));
+  }
+}
+
 }  // namespace
 
 TEST_CASE("malformed PLY files throw FileError naming file, place and problem", "[io][ply][bad-input]") {
@@ -74,17 +85,16 @@ TEST_CASE("malformed PLY files throw FileError naming file, place and problem", 
        "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
        "property float z\nend_header\n" + std::string(20, '\0'),
        "declares 2 records"},
+      // 78 bytes that hung the reader: 2^64 - 1 records of zero bytes each.
+      {"no_properties",
+       "ply\nformat binary_little_endian 1.0\nelement nothing 18446744073709551615\nend_header\n",
+       "element 'nothing' has 18446744073709551615 records but no properties"},
       {"truncated_list",
        "ply\nformat binary_big_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
        "\x03" + std::string(8, '\0'),
        "truncated"},
   };
-  for (const auto& c : cases) {
-    INFO(c.name);
-    const std::string path = nbs_test::write_temp(std::string(c.name) + ".ply", c.text);
-    CHECK_THROWS_AS(nbs::read_ply(path), nbs::FileError);
-    CHECK_THROWS_WITH(nbs::read_ply(path), Contains(path) && Contains(c.message));
-  }
+  check_rejected(cases, ".ply", [](const std::string& p) { return nbs::read_ply(p); });
 }
 
 TEST_CASE("every truncation and seeded byte corruption of a binary PLY fails cleanly or loads a valid mesh",
@@ -125,4 +135,28 @@ TEST_CASE("load_mesh rejects missing files, unknown formats and broken OBJ files
                   nbs::FileError);
   CHECK_THROWS_WITH(nbs::load_mesh(nbs_test::write_temp("no_faces.obj", "v 0 0 0\nv 1 0 0\n")),
                     Contains("no_faces.obj") && Contains("mesh is empty"));
+}
+
+TEST_CASE("OBJ coordinates and face indices are parsed strictly", "[io][obj][bad-input]") {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::vector<Case> cases{
+      {"obj_nan", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 1: vertex coordinate 'nan' is not finite"},
+      {"obj_inf", tri + "v 0 0 -inf\nf 1 2 4\n", "line 4: vertex coordinate '-inf' is not finite"},
+      {"obj_garbage", "v abc 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 1: 'abc' is not a number"},
+      {"obj_short_v", "v 0 0\n", "line 1: a vertex needs 3 coordinates, got 2"},
+      {"obj_overflow", tri + "v 1 1 0\nf 1 2 4294967299\n", "line 5: vertex index 4294967299 is out of range"},
+      {"obj_beyond", tri + "f 1 2 4\n", "line 4: vertex index 4 but the file has 3 vertices"},
+      {"obj_relative", tri + "f -1 -2 -4\n", "relative vertex index -4 but only 3 vertices precede it"},
+      {"obj_zero", tri + "f 0 1 2\n", "'0' is not a vertex reference"},
+      {"obj_bad_ref", tri + "f 1 2 x/1\n", "'x/1' is not a vertex reference"},
+      {"obj_two", tri + "f 1 2\n", "a face needs at least 3 vertices, got 2"},
+  };
+  check_rejected(cases, ".obj", [](const std::string& p) { return nbs::load_mesh(p); });
+  // The accepted forms still load: relative indices, v/vt/vn references, comments, a quad (two triangles).
+  const auto m = nbs::load_mesh(nbs_test::write_temp(
+      "forms.obj", "# c\n" + tri + "v 1 1 0 # corner\nvt 0 0\nvn 0 0 1\nf -4 -3 -1\nf 1/1/1 4//1 3\nf 1 2 4 3\n"));
+  REQUIRE(m.vertices.size() == 4);
+  REQUIRE(m.triangles.size() == 4);
+  CHECK(m.triangles[0] == nbs::IndexedMesh::Triangle{0, 1, 3});
+  CHECK(m.triangles[1] == nbs::IndexedMesh::Triangle{0, 3, 2});
 }

@@ -10,15 +10,19 @@
 
 #include "nbs/io/detail/file_bytes.hpp"
 #include "nbs/io/detail/finish_mesh.hpp"
+#include "nbs/io/detail/obj_check.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 
 namespace nbs {
 
 /// Reads the vertices and faces of an OBJ file; polygons are triangulated by tinyobjloader, all groups are
 /// merged, normals/texture coordinates/materials are ignored. Throws FileError naming the file and the problem
-/// (cannot open, parse error, index out of range, non-finite vertex, no triangle). Nothing is returned on failure.
+/// and, for text errors, the line (cannot open, a coordinate that is not a finite number, a face index that is not
+/// an integer or out of range, no triangle). Nothing is returned on failure.
 [[nodiscard]] inline IndexedMesh read_obj(const std::string& path) {
-  std::istringstream text(io_detail::read_file_bytes(path));
+  std::string bytes = io_detail::read_file_bytes(path);
+  io_detail::check_obj_text(path, bytes);
+  std::istringstream text(std::move(bytes));
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "nbs/core/error.hpp"
+#include "nbs/io/detail/words.hpp"
 
 namespace nbs {
 
@@ -82,19 +83,6 @@ struct PlyHeader {
   std::size_t body_line = 0;    ///< 1-based line number of the first body line (ascii)
 };
 
-/// Splits `line` at spaces/tabs.
-[[nodiscard]] inline std::vector<std::string_view> split_words(std::string_view line) {
-  std::vector<std::string_view> w;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    const std::size_t b = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-    if (i > b) w.push_back(line.substr(b, i - b));
-  }
-  return w;
-}
-
 /// Parses the header of a PLY file held in `bytes`. Throws FileError "<path>: line N: <problem>".
 [[nodiscard]] inline PlyHeader parse_ply_header(const std::string& path, std::string_view bytes) {
   PlyHeader h;
@@ -159,6 +147,11 @@ struct PlyHeader {
     }
   }
   if (!have_format) throw FileError(detail::concat(path, ": header has no 'format' line"));
+  // A record without properties takes no bytes, so its count would not be bounded by the file size.
+  for (const auto& e : h.elements)
+    if (e.properties.empty() && e.count > 0)
+      throw FileError(detail::concat(path, ": line ", e.header_line, ": element '", e.name, "' has ", e.count,
+                                     " records but no properties"));
   h.body_offset = pos;
   h.body_line = line_no + 1;
   return h;
