@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Installs what is missing, then builds and runs every test twice with -Wall -Wextra -Werror:
-#   1. Release            (build/test-release)
-#   2. ASan + UBSan       (build/test-asan; tests only — the examples are compiled, -Werror, in step 1)
+# Installs what is missing, then builds and runs the tests with -Wall -Wextra -Werror:
+#   1. Release                           (build/test-release: every test, the examples and benchmarks)
+#   2. ASan + UBSan + float-cast-overflow (build/test-asan; every test — the examples are compiled in step 1)
+#   3. ThreadSanitizer                   (build/test-tsan; only the tests that run threads, tsan_tests below)
 # and finally builds a downstream project against the installed package (find_package(nbs)).
 # Prints CTest's summary for each configuration and "ALL TESTS PASSED" at the end; exits non-zero on failure.
 set -euo pipefail
@@ -10,19 +11,28 @@ cd "$root"
 scripts/install-deps.sh
 jobs=${NBS_JOBS:-$(nproc)}
 
-run_config() {  # name, extra cmake args...
-  local name=$1; shift
-  local dir=build/test-$name
+# The tests that run threads (parallel candidate evaluation, parallel ray casts, flushing, the planner loop).
+tsan_tests=(space utility_terms candidate_generators sim planner planner_bunny)
+
+run_config() {  # name, "target..." ("" = all), ctest regex ("" = all), extra cmake args...
+  local name=$1 targets=$2 regex=$3; shift 3
+  local dir=build/test-$name start=$SECONDS
   echo "=== [$name] configure + build"
   cmake -S . -B "$dir" -DNBS_WERROR=ON -DNBS_BUILD_TESTS=ON -DNBS_BUILD_EXAMPLES=ON "$@" >/dev/null
-  cmake --build "$dir" -j "$jobs"
+  if [[ -z $targets ]]; then cmake --build "$dir" -j "$jobs"; else cmake --build "$dir" -j "$jobs" --target $targets; fi
   echo "=== [$name] test"
-  (cd "$dir" && ctest --output-on-failure -j "$jobs" --timeout 900)
+  (cd "$dir" && ctest --output-on-failure -j "$jobs" --timeout 900 ${regex:+-R "$regex"})
+  echo "=== [$name] took $((SECONDS - start)) s"
 }
 
-run_config release -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON
+# Sanitizer builds use -O1 -g1: they compile faster than RelWithDebInfo and still give file:line stacks.
+san_flags="-O1 -g1 -DNDEBUG"
+run_config release "" "" -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  run_config asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNBS_SANITIZE=ON -DNBS_BUILD_EXAMPLES=OFF
+  run_config asan "" "" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="$san_flags" -DNBS_SANITIZE=ON -DNBS_BUILD_EXAMPLES=OFF
+TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+  run_config tsan "${tsan_tests[*]/#/test_}" "^($(IFS='|'; echo "${tsan_tests[*]}"))\$" \
+  -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="$san_flags" -DNBS_SANITIZE_THREAD=ON -DNBS_BUILD_EXAMPLES=OFF
 
 echo "=== [downstream] install + find_package(nbs)"
 prefix=$root/build/test-install
