@@ -72,7 +72,7 @@ public:
   [[nodiscard]] std::uint32_t face_with(VertexId a, VertexId b) const {
     for (std::uint32_t f : faces_of_[a]) {
       const Face& t = faces_[f];
-      if ((t[0] == a && t[1] == b) | (t[1] == a && t[2] == b) | (t[2] == a && t[0] == b)) return f;
+      if ((t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b)) return f;
     }
     return kNoFace;
   }
