@@ -122,14 +122,14 @@ public:
   /// Integrates one scan (Fig. 4.1): voxel space, mesh, surface features of the voxels touched by M_cur (Sec. 4.5.1),
   /// ĉ_m (the Coverage policy, Eq. 4.35), d̄_m, process control (Eq. 4.38). Counts the scan (n_s) even if none of its
   /// points lies inside the bounding box of the unknown area (status says so; the models are then unchanged). Throws
-  /// InvalidArgument (nothing changed) for an invalid scan.
+  /// InvalidArgument (nothing changed) for an invalid scan; if the space's integrate throws (e.g. FileError for an
+  /// unreadable flushed block), the scan count, mesh and next plan are unchanged.
   IntegrationReport integrate(const Scan& scan) {
     const auto t0 = std::chrono::steady_clock::now();
     scan.validate();
     IntegrationReport r;
     r.points = scan.size();
     for (const Vec3& p : scan.points) r.points_inside += box_.contains(p) ? 1 : 0;
-    ++scans_;
     if (scan.empty()) {
       r.status = IntegrationStatus::empty_scan;
     } else if (r.points_inside == 0) {
@@ -141,7 +141,8 @@ public:
         t = now;
         return s;
       };
-      r.space = space_->integrate(scan);
+      // (mesh pre-check goes here: mesh_->check_scan(scan), so that the mesh cannot throw after the space changed)
+      r.space = space_->integrate(scan);  // all or nothing: a throw leaves the planner unchanged (n_s not counted)
       r.t_space_s = lap();
       r.meshed = mesh_->integrate(scan);
       r.t_mesh_s = lap();
@@ -156,6 +157,7 @@ public:
       density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
       r.t_coverage_s = lap();
     }
+    ++scans_;  // after the models: a throw above leaves n_s unchanged
     // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.
     const SearchMode proposed = control_.update(coverage_);
     if constexpr (Search::kHasRescan) {

@@ -297,6 +297,27 @@ public:
   }
   /// Flushes every resident block.
   std::size_t flush_all() { return flush_idle_blocks(0); }
+  /// Reloads the flushed blocks among `ids` (others are ignored) all or nothing: every file is read into memory
+  /// first; if one cannot be read, FileError is thrown and nothing changed (the blocks stay flushed, no counter
+  /// moves). Used by ProbabilisticVoxelSpace::integrate to stage a scan before any voxel changes.
+  void reload_blocks(const std::vector<std::uint64_t>& ids) {
+    if (flushed_.empty()) return;
+    std::vector<std::pair<std::uint64_t, std::unique_ptr<Block>>> staged;
+    for (const std::uint64_t id : ids) {
+      if (!flushed_.contains(id)) continue;
+      auto b = std::make_unique<Block>();
+      read_block(id, *b);  // may throw: nothing changed yet
+      staged.emplace_back(id, std::move(b));
+    }
+    blocks_.reserve(blocks_.size() + staged.size());
+    for (auto& [id, b] : staged) {
+      blocks_.emplace(id, std::move(b));
+      flushed_.erase(id);
+      std::error_code ec;
+      std::filesystem::remove(block_path(id), ec);
+      ++stats_.blocks_reloaded;
+    }
+  }
   /// Reloads every flushed block into memory. Throws FileError if one cannot be read.
   void reload_all() {
     std::vector<std::uint64_t> ids(flushed_.begin(), flushed_.end());

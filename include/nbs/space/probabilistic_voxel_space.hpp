@@ -84,6 +84,7 @@ public:
       beams_.push_back({o, p, dir, r, *b, detail::SegmentSetup::to_fixed(Vec3(p * grid().inverse_resolution()))});
     }
     st.integrated = beams_.size();
+    if constexpr (BlockBackend<Backend>) stage_flushed_blocks();  // may throw FileError: nothing changed yet
     begin_scan();
     for (const BeamRecord& b : beams_) band_pass(b, st);
     for (const BeamRecord& b : beams_) free_pass(b, st);
@@ -202,6 +203,46 @@ private:
       typename std::conditional_t<BlockBackend<Backend>, detail::ReaderOf<Backend, 8>, std::type_identity<NoReader>>::type;
   using RayReader =
       typename std::conditional_t<BlockBackend<Backend>, detail::ReaderOf<Backend, 0>, std::type_identity<NoReader>>::type;
+
+  // All-or-nothing integration with flushing: reloads every flushed block the walks of beams_ will write (the same
+  // segments as band_pass and free_pass) before any voxel changes; throws FileError, space unchanged, if one cannot
+  // be read. Free when no block is flushed.
+  void stage_flushed_blocks() {
+    if constexpr (requires { backend_.flushed_block_count(); backend_.reload_blocks(std::vector<std::uint64_t>{}); }) {
+      if (backend_.flushed_block_count() == 0) return;
+      using Q = detail::SegmentSetup;
+      std::vector<std::uint64_t> ids;
+      const auto collect = [&](const Q& q, bool include_end) {
+        detail::SegmentWalker w(q);
+        for (;;) {
+          const bool last = w.remaining() == 0;
+          if (last && !include_end) return;
+          ids.push_back(Backend::block_id(w.key()));
+          if (last) return;
+          w.step();
+        }
+      };
+      const double inv = grid().inverse_resolution();
+      for (const BeamRecord& b : beams_) {
+        const double w = model_.band_half_width_m(b.beam);
+        const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
+        ids.push_back(Backend::block_id(Q::key_of_fixed(b.end_fixed)));
+        double t0, t1;
+        if (detail::clip_segment(a, e, voxel_bounds(), t0, t1)) {
+          const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds());
+          const Vec3 to = detail::point_in_box(a, e, t1, voxel_bounds());
+          collect(Q(Q::to_fixed(Vec3(from * inv)), Q::to_fixed(Vec3(to * inv))), true);
+        }
+        if (detail::clip_segment(b.origin, b.end, voxel_bounds(), t0, t1)) {
+          const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds());
+          collect(Q(Q::to_fixed(Vec3(from * inv)), b.end_fixed), false);
+        }
+      }
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      backend_.reload_blocks(ids);
+    }
+  }
 
   void begin_scan() {
     if constexpr (BlockBackend<Backend>) {
