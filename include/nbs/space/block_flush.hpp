@@ -14,7 +14,8 @@ namespace nbs {
 /// memory_budget_bytes > 0.
 struct BlockFlushSetting {
   /// Parent folder; the backend creates its own sub-folder `nbs-blocks-<n>` there at the first flush and deletes it
-  /// when destroyed.
+  /// when destroyed. It holds a lock on the folder while alive; the first flush also removes the sibling folders
+  /// whose owner died without deleting them.
   std::filesystem::path directory;
   std::uint32_t idle_scans = 0;           ///< flush blocks not written during the last idle_scans scans (0 = off)
   std::size_t memory_budget_bytes = 0;    ///< then flush LRU blocks until memory_bytes() ≤ this (0 = off)
@@ -25,6 +26,9 @@ struct BlockFlushStats {
   std::uint64_t blocks_written = 0;   ///< blocks flushed to disk
   std::uint64_t blocks_reloaded = 0;  ///< flushed blocks brought back by a write access
   std::uint64_t failed_writes = 0;    ///< flushes that failed (the block stayed in memory)
+  /// `nbs-blocks-*` folders of dead owners (e.g. a killed process) removed from the directory at this backend's
+  /// first flush (detail/block_folder_lock.hpp).
+  std::uint64_t stale_folders_removed = 0;
   std::string last_error;             ///< message of the last failed flush ("" if none)
 };
 

@@ -41,6 +41,7 @@
 #include "nbs/space/block_flush.hpp"
 #include "nbs/space/block_states.hpp"
 #include "nbs/space/detail/block_files.hpp"
+#include "nbs/space/detail/block_folder_lock.hpp"
 #include "nbs/space/detail/block_reader.hpp"
 #include "nbs/space/voxel_key.hpp"
 
@@ -355,10 +356,13 @@ private:
     return detail::block_file_path(folder_, id);
   }
 
-  // Creates the per-space folder on first use.
+  // Creates the per-space folder on first use, after removing the folders of dead owners beside it, and locks it
+  // (detail/block_folder_lock.hpp; a folder that cannot be locked still works, it is only not cleaned up if killed).
   void ensure_folder() {
     if (!folder_.empty()) return;
+    stats_.stale_folders_removed += detail::remove_stale_block_folders(setting_.directory);
     folder_ = detail::create_block_folder<HashedBlockBackend>(setting_.directory);
+    (void)folder_lock_.acquire_new(folder_);
   }
 
   void fail(const std::string& message) {
@@ -375,6 +379,7 @@ private:
     std::error_code ec;
     std::filesystem::remove_all(folder_, ec);
     folder_.clear();
+    folder_lock_.release();
   }
 
   void take(HashedBlockBackend& o) {
@@ -387,6 +392,7 @@ private:
     setting_ = std::move(o.setting_);
     stats_ = std::move(o.stats_);
     folder_ = std::move(o.folder_);
+    folder_lock_ = std::move(o.folder_lock_);
     o.cache_.fill(CacheEntry{});
     o.blocks_.clear();
     o.flushed_.clear();
@@ -425,6 +431,7 @@ private:
   BlockFlushSetting setting_;
   BlockFlushStats stats_;
   std::filesystem::path folder_;
+  detail::BlockFolderLock folder_lock_;  // held while folder_ exists
 };
 
 }  // namespace nbs
