@@ -14,10 +14,13 @@ namespace nbs::detail {
 
 /// The voxel space of the planner: l_v = params.voxel_size_m over the bounding box of the unknown area. A
 /// NoiseModelSpace gets σ(d) of the sensor's noise (clamped to ≥ 10 µm, the thesis model needs σ > 0); any other
-/// space is built as Space(l_v, box).
+/// space is built as Space(l_v, box). Throws InvalidArgument if l_v is not smaller than the box's smallest extent.
 template <VoxelSpace Space, class Sensor>
 [[nodiscard]] std::unique_ptr<Space> make_planner_space(const Parameters& params, const Aabb& box,
                                                         const Sensor& sensor) {
+  const double extent = box.extent().minCoeff();  // box: checked by require_unknown_area
+  detail::require(params.voxel_size_m < extent, "voxel_size_m = ", params.voxel_size_m,
+                  " m must be smaller than the smallest extent of the unknown area's box, ", extent, " m");
   if constexpr (NoiseModelSpace<Space> && requires { sensor.noise.sigma_m(1.0); }) {
     typename Space::ModelType::Setting st;
     const auto noise = sensor.noise;
