@@ -38,6 +38,11 @@ concept PlannerMesh = DensityMesh<M> && TracksCurrentScan<M> && std::constructib
   { m.integrate(scan) } -> std::convertible_to<std::size_t>;
 };
 
+/// Capability of a PlannerMesh: `m.check_scan(scan)` throws what `m.integrate(scan)` would throw for a bad scan and
+/// changes nothing, so the planner can check before it changes the voxel space.
+template <class M>
+concept ChecksScans = requires(const M& m, const Scan& scan) { m.check_scan(scan); };
+
 /// A sensor the planner can plan for: candidate rays can be simulated and SensorGeometry::of describes it.
 template <class S>
 concept PlannerSensor = CandidateRaySensor<S> && requires(const S& s) {
@@ -141,7 +146,9 @@ public:
         t = now;
         return s;
       };
-      // (mesh pre-check goes here: mesh_->check_scan(scan), so that the mesh cannot throw after the space changed)
+      // A mesh that can reject a scan the space accepts checks it first, so that it cannot throw after the space
+      // changed (StreamingMesh: coordinates outside its spatial hash's range).
+      if constexpr (ChecksScans<Mesh>) mesh_->check_scan(scan);
       r.space = space_->integrate(scan);  // all or nothing: a throw leaves the planner unchanged (n_s not counted)
       r.t_space_s = lap();
       r.meshed = mesh_->integrate(scan);
