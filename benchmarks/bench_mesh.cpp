@@ -207,7 +207,7 @@ std::uint64_t mesh_hash(const nbs::StreamingMesh& m) {
   }
   m.for_each_face([&](const nbs::MeshFace& f) { bytes(&f, sizeof f); });
   const nbs::StreamingStats& s = m.stats();
-  for (std::uint64_t c : {s.received, s.invalid, s.outside, s.too_close, s.stored, s.meshed, s.normal_failures})
+  for (std::uint64_t c : {s.received, s.outside, s.too_close, s.stored, s.meshed, s.normal_failures})
     bytes(&c, sizeof c);
   return h;
 }

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "nbs/core/parameters.hpp"
+#include "nbs/mesh/streaming_mesh_settings.hpp"
 
 TEST_CASE("Parameters default to Tab. 4.3 in SI units", "[core]") {
   const nbs::Parameters p;
@@ -29,4 +30,27 @@ TEST_CASE("Parameters::validate names the bad field and value", "[core]") {
   p = nbs::Parameters{};
   p.max_scans = 0;
   REQUIRE_THROWS_WITH(p.validate(), Catch::Contains("max_scans"));
+}
+
+TEST_CASE("Parameters::validate cross-checks the fields that bound each other, naming both values", "[core]") {
+  nbs::Parameters p;
+  p.reduction_radius_m = 0.005;  // R_n = 0.004 < R_r < R_m = 0.006
+  REQUIRE_THROWS_WITH(p.validate(), Catch::Contains("normal_radius_m (0.004") && Catch::Contains("0.005"));
+  const nbs::StreamingMeshSettings s = [] {
+    nbs::StreamingMeshSettings m;
+    m.reduction_radius_m = 0.005;
+    return m;
+  }();
+  CHECK_THROWS_WITH(s.validate(), Catch::Contains("normal_radius_m (0.004"));  // the same rule, written once
+  p = nbs::Parameters{};
+  p.reduction_radius_m = 0.006;
+  p.normal_radius_m = 0.01;
+  REQUIRE_THROWS_WITH(p.validate(), Catch::Contains("mesh_radius_m (0.006"));
+  p.reduction_radius_m = 0.0059;
+  CHECK_NOTHROW(p.validate());
+  p = nbs::Parameters{};
+  p.voxel_size_m = 0.2;  // larger than the object (0.16 m)
+  REQUIRE_THROWS_WITH(p.validate(), Catch::Contains("voxel_size_m (0.2") && Catch::Contains("object_size_m (0.16"));
+  p.voxel_size_m = 0.159;
+  CHECK_NOTHROW(p.validate());
 }

@@ -113,6 +113,74 @@ TEST_CASE("planner: a scan entirely outside the bounding box gets a clear status
   CHECK(p.scans() == 2);  // the invalid scan was not counted
 }
 
+TEST_CASE("planner: a scan the mesh rejects leaves the planner unchanged (space, mesh, n_s, next plan)",
+          "[planner][validation]") {
+  // A finite point far outside the mesh's coordinate range passes Scan::validate and is clipped by the voxel space,
+  // which would update the free voxels of its beam inside the box; the mesh then throws. The planner checks the
+  // mesh first (ChecksScans), so nothing changes.
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::NbsPlanner<> p({}, light_lsp(), sphere_box()), twin({}, light_lsp(), sphere_box());
+  const nbs::LinearScanPath first_path(nbs::Viewpoint::look_at(Vec3(0.0, -0.3, 0.04), Vec3(0.0, 0.0, 0.04)),
+                                       Vec3(0.0, -0.3, 0.08));
+  const nbs::Scan first = sphere.scan(first_path, p.sensor(), 1);
+  REQUIRE(first.size() > 100);
+  (void)p.integrate(first);
+  (void)twin.integrate(first);
+  const nbs::LinearScanPath second_path(nbs::Viewpoint::look_at(Vec3(-0.3, 0.0, 0.04), Vec3(0.0, 0.0, 0.04)),
+                                        Vec3(-0.3, 0.0, 0.08));
+  nbs::Scan bad = sphere.scan(second_path, p.sensor(), 2);
+  REQUIRE(bad.size() > 100);
+  const std::size_t last = bad.size() - 1;
+  bad.points[last] = bad.origin(last) + 1e30 * bad.line_of_sight(last);
+  REQUIRE_NOTHROW(bad.validate());
+
+  const nbs::IntegrationStats totals = p.space().totals();
+  const std::size_t vertices = p.mesh().vertex_count(), faces = p.mesh().face_count();
+  CHECK_THROWS_AS(p.integrate(bad), nbs::InvalidArgument);
+  CHECK(p.scans() == 1);
+  CHECK(p.space().totals().integrated == totals.integrated);
+  CHECK(p.space().totals().voxel_updates == totals.voxel_updates);
+  CHECK(p.space().totals().points == totals.points);
+  CHECK(p.mesh().vertex_count() == vertices);
+  CHECK(p.mesh().face_count() == faces);
+  const nbs::PlanResult a = p.next_best_scan(), b = twin.next_best_scan();
+  REQUIRE(a.status == b.status);
+  REQUIRE(a.ok());
+  CHECK(a.path().start().pose().matrix() == b.path().start().pose().matrix());
+  CHECK(a.path().end_position() == b.path().end_position());
+}
+
+TEST_CASE("loop: a scanner that throws mid-run leaves the planner as after its last good scan", "[planner][loop]") {
+  // A scan source failing (device lost, driver error) throws out of run_simulation before integrate: the planner
+  // keeps the scans it had, and plans exactly as a twin that stopped there.
+  struct FailingScanner {
+    const nbs::test::SphereOnPedestal* sphere;
+    int fail_at;  // 1-based call that throws
+    mutable int calls = 0;
+    nbs::Scan scan(const nbs::LinearScanPath& path, const nbs::LaserStripeProfiler& s, std::uint64_t seed) const {
+      if (++calls == fail_at) throw nbs::FileError("scanner: device lost mid-scan");
+      return sphere->scan(path, s, seed);
+    }
+  };
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::NbsPlanner<> p({}, light_lsp(), sphere_box()), twin({}, light_lsp(), sphere_box());
+  const FailingScanner failing{&sphere, 3};
+  CHECK_THROWS_WITH(nbs::run_simulation(p, failing, loop_setting(5, 6)), Catch::Contains("device lost"));
+  const auto ran = nbs::run_simulation(twin, sphere, loop_setting(5, 2));
+  REQUIRE(ran.records.size() == 2);
+  (void)twin.next_best_scan();  // the failing run planned its third scan before the scanner threw
+  CHECK(p.scans() == 2);
+  CHECK(p.mesh().vertex_count() == twin.mesh().vertex_count());
+  CHECK(p.mesh().face_count() == twin.mesh().face_count());
+  CHECK(p.space().totals().voxel_updates == twin.space().totals().voxel_updates);
+  CHECK(p.estimated_coverage() == twin.estimated_coverage());
+  const nbs::PlanResult a = p.next_best_scan(), b = twin.next_best_scan();
+  REQUIRE(a.status == b.status);
+  REQUIRE(a.ok());
+  CHECK(a.path().start().pose().matrix() == b.path().start().pose().matrix());
+  CHECK(a.path().end_position() == b.path().end_position());
+}
+
 TEST_CASE("runtime facade: every method code parses and round-trips; unknown codes are rejected", "[planner]") {
   std::set<std::string> codes;
   for (const nbs::Method& m : nbs::kAllMethods) {

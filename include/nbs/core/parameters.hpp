@@ -8,6 +8,19 @@
 #include "nbs/core/error.hpp"
 
 namespace nbs {
+namespace detail {
+/// The radii of the streaming mesh (Sec. 3.3.1): each finite and > 0, and R_r below R_n and R_m (the density
+/// limitation must leave points for the normal ball and the triangulation). Names both values of a broken order.
+inline void require_mesh_radii(double reduction_radius_m, double normal_radius_m, double mesh_radius_m) {
+  require_positive("reduction_radius_m", reduction_radius_m);
+  require_positive("normal_radius_m", normal_radius_m);
+  require_positive("mesh_radius_m", mesh_radius_m);
+  require(reduction_radius_m < normal_radius_m, "reduction_radius_m (", reduction_radius_m,
+          ") must be smaller than normal_radius_m (", normal_radius_m, ")");
+  require(reduction_radius_m < mesh_radius_m, "reduction_radius_m (", reduction_radius_m,
+          ") must be smaller than mesh_radius_m (", mesh_radius_m, ")");
+}
+}  // namespace detail
 
 /// Every tunable of mesh generation, voxel space, candidate generation, selection and termination.
 /// Defaults reproduce Tab. 4.3 and Sec. 4.7. Call `validate()` before use; components do so at construction.
@@ -60,11 +73,7 @@ struct Parameters {
     using detail::require;
     using detail::require_in_range;
     using detail::require_positive;
-    require_positive("reduction_radius_m", reduction_radius_m);
-    require_positive("normal_radius_m", normal_radius_m);
-    require_positive("mesh_radius_m", mesh_radius_m);
-    require(reduction_radius_m < mesh_radius_m, "reduction_radius_m (", reduction_radius_m,
-            ") must be smaller than mesh_radius_m (", mesh_radius_m, ")");
+    detail::require_mesh_radii(reduction_radius_m, normal_radius_m, mesh_radius_m);
     require_positive("voxel_size_m", voxel_size_m);
     require_in_range("occupied_threshold", occupied_threshold, 0.5, 1.0);
     require(boundary_penalty_threshold >= 0, "boundary_penalty_threshold must be >= 0, got ",
@@ -85,6 +94,8 @@ struct Parameters {
     require(max_scans >= 1, "max_scans must be >= 1, got ", max_scans);
     require_in_range("mode_switch_gain", mode_switch_gain, 0.0, 1.0);
     require_positive("object_size_m", object_size_m);
+    require(voxel_size_m < object_size_m, "voxel_size_m (", voxel_size_m, ") must be smaller than object_size_m (",
+            object_size_m, ")");
     require_positive("completeness_radius_m", completeness_radius_m);
     require_positive("sphere_path_length_m", sphere_path_length_m);
   }

@@ -3,6 +3,7 @@
 /// A range scan: per-profile sensor poses and the measured points with their lines of sight.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "nbs/core/types.hpp"
@@ -45,7 +46,9 @@ struct Scan {
   void validate() const {
     detail::require(points.size() == profile_of_point.size(), "scan has ", points.size(), " points but ",
                     profile_of_point.size(), " profile indices");
-    for (std::size_t k = 0; k < profile_poses.size(); ++k) validate_pose(profile_poses[k], "scan profile pose");
+    for (std::size_t k = 0; k < profile_poses.size(); ++k)
+      if (std::string why = pose_problem(profile_poses[k]); !why.empty())
+        throw InvalidArgument(detail::concat("scan profile pose ", k, " ", why));
     for (std::size_t i = 0; i < points.size(); ++i) {
       detail::require(points[i].allFinite(), "scan point ", i, " is not finite: (", points[i].transpose(), ")");
       detail::require(profile_of_point[i] < profile_poses.size(), "scan point ", i, " refers to profile ",

@@ -16,6 +16,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "nbs/core/error.hpp"
@@ -36,20 +38,26 @@ template <class Derived>
   return v.allFinite();
 }
 
-/// Throws InvalidArgument unless `p` is a finite rigid transform with an orthonormal, right-handed rotation
-/// (|RᵀR − I|∞ ≤ 1e-6, det R = +1 ± 1e-6) and bottom row (0 0 0 1).
-inline void validate_pose(const Pose& p, const char* name = "pose") {
+/// What makes `p` not a finite rigid transform, or "" if it is one: every coefficient finite, an orthonormal,
+/// right-handed rotation (|RᵀR − I|∞ ≤ 1e-6, det R = +1 ± 1e-6) and bottom row (0 0 0 1).
+[[nodiscard]] inline std::string pose_problem(const Pose& p) {
   const auto& m = p.matrix();
-  detail::require(m.allFinite(), name, " has a non-finite coefficient:\n", m);
-  detail::require((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() <= kOrthonormalTolerance, name,
-                  " has bottom row ", m.row(3), " instead of (0 0 0 1)");
+  if (!m.allFinite()) return detail::concat("has a non-finite coefficient:\n", m);
+  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > kOrthonormalTolerance)
+    return detail::concat("has bottom row ", m.row(3), " instead of (0 0 0 1)");
   const Mat3 r = p.linear();
   const double ortho_err = (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff();
-  detail::require(ortho_err <= kOrthonormalTolerance, name, " rotation is not orthonormal (|RᵀR−I|∞ = ", ortho_err,
-                  ")");
+  if (ortho_err > kOrthonormalTolerance)
+    return detail::concat("rotation is not orthonormal (|RᵀR−I|∞ = ", ortho_err, ")");
   const double det = r.determinant();
-  detail::require(std::abs(det - 1.0) <= kOrthonormalTolerance, name, " rotation has determinant ", det,
-                  " (must be +1)");
+  if (std::abs(det - 1.0) > kOrthonormalTolerance)
+    return detail::concat("rotation has determinant ", det, " (must be +1)");
+  return {};
+}
+
+/// Throws InvalidArgument, the message starting with `name`, unless pose_problem(p) is "".
+inline void validate_pose(const Pose& p, std::string_view name = "pose") {
+  if (std::string why = pose_problem(p); !why.empty()) throw InvalidArgument(detail::concat(name, " ", why));
 }
 
 /// Throws InvalidArgument unless `v` is finite.

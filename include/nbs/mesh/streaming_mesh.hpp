@@ -43,7 +43,7 @@ public:
       : StreamingMesh(StreamingMeshSettings::from(p, unknown_area)) {}
   explicit StreamingMesh(const StreamingMeshSettings& s)
       : settings_((s.validate(), s)),
-        grid_(s.mesh_radius_m / 2.0),
+        grid_(s.hash_cell_m()),
         tri_(faces_, s.project_vertices ? surf_ : pos_, nrm_) {
     tri_settings_.radius_m = s.mesh_radius_m;
     tri_settings_.min_normal_dot = s.min_normal_dot;
@@ -53,24 +53,43 @@ public:
 
   // --- Stream input ---------------------------------------------------------------------------------------------
   /// Starts a new scan: M_cur becomes empty; `sensor` (T_WS of the scan, e.g. its first profile) is remembered
-  /// for boundary detection.
+  /// for boundary detection. Throws InvalidArgument, changing nothing, unless `sensor` is a rigid transform.
   void begin_scan(const Pose& sensor = Pose::Identity()) {
+    validate_pose(sensor, "StreamingMesh::begin_scan sensor pose");
     ++scan_;
     sensor_ = sensor;
   }
 
   /// Inserts one measured point `p` (world, m) seen along `line_of_sight` (sensor → point, any positive length).
+  /// Throws InvalidArgument, changing nothing, if `p` or `line_of_sight` is not finite, the line of sight has no
+  /// length (≤ 1e-12), or `p` lies beyond ±settings().max_abs_coordinate_m() on an axis.
   InsertResult insert(const Vec3& p, const Vec3& line_of_sight);
 
-  /// begin_scan(scan's first profile pose) + insert every point with its line of sight. Returns points meshed.
-  std::size_t integrate(const Scan& scan) {
-    begin_scan(scan.profile_poses.empty() ? Pose::Identity() : scan.profile_poses.front());
-    std::size_t meshed = 0;
+  /// Throws InvalidArgument naming the first offending index and value unless integrate(scan) can take every point:
+  /// Scan::validate() holds, every point lies within ±settings().max_abs_coordinate_m() on each axis (whether or not
+  /// the pass-through box would drop it) and differs from its sensor origin. Changes nothing.
+  void check_scan(const Scan& scan) const {
+    scan.validate();
+    const double limit = settings_.max_abs_coordinate_m();
     for (std::size_t i = 0; i < scan.points.size(); ++i) {
-      const bool ok_profile = i < scan.profile_of_point.size() && scan.profile_of_point[i] < scan.profile_poses.size();
-      const Vec3 los = ok_profile ? scan.line_of_sight(i) : Vec3::Zero();
-      meshed += insert(scan.points[i], los) == InsertResult::meshed ? 1 : 0;
+      const Vec3& p = scan.points[i];
+      detail::require(grid_.in_range(p), "scan point ", i, " (", p.transpose(), ") lies beyond ±", limit,
+                      " m on an axis, the coordinate range of the mesh's spatial hash at mesh_radius_m = ",
+                      settings_.mesh_radius_m, " m");
+      detail::require(p != scan.origin(i), "scan point ", i, " (", p.transpose(), ") coincides with its sensor origin");
     }
+  }
+
+  /// check_scan(scan), then — unless the scan is empty, which changes nothing — begin_scan(its first profile pose)
+  /// and insert() every point with its line of sight. All or nothing: a scan check_scan rejects changes nothing.
+  /// Returns the points meshed.
+  std::size_t integrate(const Scan& scan) {
+    check_scan(scan);
+    if (scan.empty()) return 0;
+    begin_scan(scan.profile_poses.front());
+    std::size_t meshed = 0;
+    for (std::size_t i = 0; i < scan.points.size(); ++i)
+      meshed += insert(scan.points[i], scan.line_of_sight(i)) == InsertResult::meshed ? 1 : 0;
     return meshed;
   }
 

@@ -10,6 +10,7 @@
 #include "nbs/core/parameters.hpp"
 #include "nbs/core/types.hpp"
 #include "nbs/mesh/detail/normal_estimation.hpp"
+#include "nbs/mesh/detail/spatial_hash.hpp"
 
 namespace nbs {
 
@@ -46,14 +47,14 @@ struct StreamingMeshSettings {
     s.pass_through = unknown_area;
     return s;
   }
+  /// Edge of the spatial hash's cells: R_m / 2.
+  [[nodiscard]] double hash_cell_m() const { return mesh_radius_m / 2.0; }
+  /// Largest |coordinate| (m, each axis) a point may have: the spatial hash's range at hash_cell_m() (±1.57 km at
+  /// the default R_m = 6 mm). Farther points would share clamped cells and make insertion quadratic.
+  [[nodiscard]] double max_abs_coordinate_m() const { return detail::SpatialHash::max_abs_coordinate(hash_cell_m()); }
   /// Throws InvalidArgument naming the first bad field.
   void validate() const {
-    detail::require_positive("reduction_radius_m", reduction_radius_m);
-    detail::require_positive("normal_radius_m", normal_radius_m);
-    detail::require_positive("mesh_radius_m", mesh_radius_m);
-    detail::require(reduction_radius_m < mesh_radius_m && reduction_radius_m < normal_radius_m,
-                    "reduction_radius_m (", reduction_radius_m, ") must be smaller than normal_radius_m (",
-                    normal_radius_m, ") and mesh_radius_m (", mesh_radius_m, ")");
+    detail::require_mesh_radii(reduction_radius_m, normal_radius_m, mesh_radius_m);
     detail::require(robustness.min_neighbours >= 3, "robustness.min_neighbours must be >= 3, got ",
                     robustness.min_neighbours);
     detail::require_in_range("min_normal_dot", min_normal_dot, -1.0, 1.0);
@@ -63,7 +64,6 @@ struct StreamingMeshSettings {
 
 /// What happened to one incoming point.
 enum class InsertResult : std::uint8_t {
-  invalid,        ///< non-finite point or line of sight, or zero line of sight: skipped.
   outside,        ///< outside the pass-through box: skipped.
   too_close,      ///< closer than R_r to a stored point: skipped (density limitation).
   pending,        ///< stored, normal not (yet) robust: not a mesh vertex yet.
@@ -72,8 +72,7 @@ enum class InsertResult : std::uint8_t {
 
 /// Counters of the stream (all since construction).
 struct StreamingStats {
-  std::uint64_t received = 0;       ///< points offered to insert().
-  std::uint64_t invalid = 0;        ///< skipped: NaN/inf coordinates or zero line of sight.
+  std::uint64_t received = 0;       ///< points insert() took (it throws on invalid ones).
   std::uint64_t outside = 0;        ///< skipped by the pass-through filter.
   std::uint64_t too_close = 0;      ///< skipped by the density limitation.
   std::uint64_t stored = 0;         ///< points kept (= vertex_count()).

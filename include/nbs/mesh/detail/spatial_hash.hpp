@@ -19,10 +19,22 @@
 namespace nbs::detail {
 
 class SpatialHash {
+  /// Largest |cell index| on an axis: 2^20 − 1, so that index + 2^20 fits the 21 bits per axis of key_of().
+  static constexpr double kMaxCell = 1048575.0;
+
 public:
   explicit SpatialHash(double cell_m = 0.003) : cell_m_(cell_m), inv_cell_(1.0 / cell_m) { rehash(256); }
 
   [[nodiscard]] double cell_size() const { return cell_m_; }
+
+  /// Largest |coordinate| (m, each axis) of a point at cells of `cell_m`: half the ±(2^20 − 1) cells of the key
+  /// packing, so that the cells of any query ball of radius < that around the point are still distinct (beyond
+  /// it cells are clamped onto the edge of the range and share it).
+  [[nodiscard]] static double max_abs_coordinate(double cell_m) { return 0.5 * (kMaxCell - 1.0) * cell_m; }
+  /// True if every coordinate of `p` is within ±max_abs_coordinate(cell_size()) (false for NaN).
+  [[nodiscard]] bool in_range(const Vec3& p) const {
+    return (p.array().abs() <= max_abs_coordinate(cell_m_)).all();
+  }
 
   /// Adds point `id` at `p`.
   void insert(const Vec3& p, std::uint32_t id) {
@@ -189,11 +201,12 @@ private:
   }
 
   [[nodiscard]] Eigen::Vector3i cell_of(const Vec3& p) const {
-    // Coordinates are clamped to ±2^20 cells (±3 km at 3 mm): far beyond any workspace, keeps the key packing valid.
+    // Cells are clamped to ±kMaxCell (±3 km at 3 mm) to keep the key packing and the cast defined; callers keep
+    // their points in_range() (half of that), so only query boxes ever reach the clamp.
     auto c = [this](double v) {
       double f = std::floor(v * inv_cell_);
       if (std::isnan(f)) f = 0.0;  // callers never pass NaN; this only keeps the cast defined.
-      return static_cast<int>(f < -1048575.0 ? -1048575.0 : (f > 1048575.0 ? 1048575.0 : f));
+      return static_cast<int>(f < -kMaxCell ? -kMaxCell : (f > kMaxCell ? kMaxCell : f));
     };
     return {c(p.x()), c(p.y()), c(p.z())};
   }

@@ -16,12 +16,15 @@
 namespace nbs {
 
 inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sight) {
-  ++stats_.received;
+  detail::require(p.allFinite(), "StreamingMesh::insert: point is not finite: (", p.transpose(), ")");
   const double los_norm = line_of_sight.norm();
-  if (!p.allFinite() || !line_of_sight.allFinite() || !(los_norm > 1e-12)) {
-    ++stats_.invalid;
-    return InsertResult::invalid;
-  }
+  detail::require(line_of_sight.allFinite() && los_norm > 1e-12,
+                  "StreamingMesh::insert: line of sight must be finite with a length > 1e-12, got (",
+                  line_of_sight.transpose(), ")");
+  detail::require(grid_.in_range(p), "StreamingMesh::insert: point (", p.transpose(), ") lies beyond ±",
+                  settings_.max_abs_coordinate_m(), " m on an axis, the coordinate range of the spatial hash at ",
+                  "mesh_radius_m = ", settings_.mesh_radius_m, " m");
+  ++stats_.received;
   if (!settings_.pass_through.empty() && !settings_.pass_through.contains(p)) {
     ++stats_.outside;
     return InsertResult::outside;
