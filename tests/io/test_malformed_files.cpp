@@ -160,3 +160,24 @@ TEST_CASE("OBJ coordinates and face indices are parsed strictly", "[io][obj][bad
   CHECK(m.triangles[0] == nbs::IndexedMesh::Triangle{0, 1, 3});
   CHECK(m.triangles[1] == nbs::IndexedMesh::Triangle{0, 3, 2});
 }
+
+TEST_CASE("read_ply_bytes / read_obj_bytes equal the file readers, errors included", "[io][bad-input]") {
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  auto same = [](const nbs::IndexedMesh& a, const nbs::IndexedMesh& b) {
+    return a.vertices == b.vertices && a.triangles == b.triangles;
+  };
+  for (const char* name : {"binary_le_tetrahedron.ply", "binary_be_tetrahedron.ply", "ascii_tristrips.ply",
+                           "ascii_quad_and_triangle.ply"}) {
+    INFO(name);
+    const std::string path = nbs_test::fixture(name);
+    CHECK(same(nbs::read_ply_bytes(path, slurp(path)), nbs::read_ply(path)));
+  }
+  const std::string obj = nbs_test::write_temp("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  CHECK(same(nbs::read_obj_bytes(obj, slurp(obj)), nbs::read_obj(obj)));
+  CHECK(nbs::read_obj_bytes("mem.obj", slurp(obj)).triangles.size() == 2);
+  CHECK_THROWS_WITH(nbs::read_ply_bytes("mem.ply", kHead + "0 0 0\n1 0 0\n"), Contains("mem.ply"));
+  CHECK_THROWS_WITH(nbs::read_obj_bytes("mem.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), Contains("mem.obj"));
+}

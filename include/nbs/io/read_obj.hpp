@@ -19,8 +19,11 @@ namespace nbs {
 /// merged, normals/texture coordinates/materials are ignored. Throws FileError naming the file and the problem
 /// and, for text errors, the line (cannot open, a coordinate that is not a finite number, a face index that is not
 /// an integer or out of range, no triangle). Nothing is returned on failure.
-[[nodiscard]] inline IndexedMesh read_obj(const std::string& path) {
-  std::string bytes = io_detail::read_file_bytes(path);
+[[nodiscard]] inline IndexedMesh read_obj(const std::string& path);
+
+/// read_obj of a file's contents held in memory: `bytes` is the whole file, `path` names it in the messages.
+/// The same checks and errors as read_obj.
+[[nodiscard]] inline IndexedMesh read_obj_bytes(const std::string& path, std::string bytes) {
   io_detail::check_obj_text(path, bytes);
   std::istringstream text(std::move(bytes));
   tinyobj::attrib_t attrib;
@@ -59,5 +62,7 @@ namespace nbs {
   }
   return detail::finish_mesh(path, std::move(mesh));
 }
+
+inline IndexedMesh read_obj(const std::string& path) { return read_obj_bytes(path, io_detail::read_file_bytes(path)); }
 
 }  // namespace nbs

@@ -51,9 +51,12 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
 /// and the problem for: a bad or truncated header, an unknown type, wrong property types (x/y/z lists, non-integer
 /// indices), truncated or surplus data, non-finite coordinates, faces with < 3 vertices, indices out of range,
 /// no triangle at all. Nothing is returned on failure.
-[[nodiscard]] inline IndexedMesh read_ply(const std::string& path) {
+[[nodiscard]] inline IndexedMesh read_ply(const std::string& path);
+
+/// read_ply of a file's contents held in memory: `bytes` is the whole file, `path` names it in the messages.
+/// The same checks and errors as read_ply.
+[[nodiscard]] inline IndexedMesh read_ply_bytes(const std::string& path, const std::string& bytes) {
   using namespace io_detail;
-  const std::string bytes = read_file_bytes(path);
   const PlyHeader header = parse_ply_header(path, bytes);
   std::uint64_t vertex_count = 0;
   for (const auto& e : header.elements)
@@ -138,5 +141,7 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
   in.finish();
   return detail::finish_mesh(path, std::move(mesh));
 }
+
+inline IndexedMesh read_ply(const std::string& path) { return read_ply_bytes(path, io_detail::read_file_bytes(path)); }
 
 }  // namespace nbs
