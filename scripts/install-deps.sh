@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
-# Usage: scripts/install-deps.sh [--with-plots]   (--with-plots adds python3-matplotlib for benchmarks/plots)
+# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz]
+#   --with-plots  adds python3-matplotlib for benchmarks/plots
+#   --with-fuzz   adds clang and libFuzzer for scripts/fuzz.sh
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -8,7 +10,13 @@ packages=(
   libembree-dev liboctomap-dev libfcl-dev nlohmann-json3-dev
   libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev libode-dev
 )
-if [[ "${1:-}" == "--with-plots" ]]; then packages+=(python3-matplotlib python3-numpy); fi
+for arg in "$@"; do
+  case $arg in
+    --with-plots) packages+=(python3-matplotlib python3-numpy) ;;
+    --with-fuzz) packages+=(clang libclang-rt-dev) ;;
+    *) echo "install-deps: unknown option '$arg'" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

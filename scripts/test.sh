@@ -3,7 +3,8 @@
 #   1. Release                           (build/test-release: every test, the examples and benchmarks)
 #   2. ASan + UBSan + float-cast-overflow (build/test-asan; every test — the examples are compiled in step 1)
 #   3. ThreadSanitizer                   (build/test-tsan; only the tests that run threads, tsan_tests below)
-# and finally builds a downstream project against the installed package (find_package(nbs)).
+# then builds a downstream project against the installed package (find_package(nbs)) and finally runs each
+# libFuzzer target for 20 s (scripts/fuzz.sh --quick, clang).
 # Prints CTest's summary for each configuration and "ALL TESTS PASSED" at the end; exits non-zero on failure.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -43,4 +44,7 @@ cmake --install build/test-release --prefix "$prefix" >/dev/null
 cmake -S tests/downstream -B build/test-downstream -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/test-downstream -j "$jobs"
 build/test-downstream/nbs_downstream
+
+echo "=== [fuzz] libFuzzer, 20 s per target (scripts/fuzz.sh --quick)"
+scripts/fuzz.sh --quick --jobs "$jobs"
 echo "ALL TESTS PASSED"
