@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Streaming mesh benchmarks (issue 4). Headlines:
 //  mesh.points_per_s           incoming stripe-profiler points per second, 1 core, Tab. 4.3 radii, into the planner's
 //                              default mesh (NoiseRobustStreamingMesh, PlannerSetting::noise_robust_mesh): the bundled

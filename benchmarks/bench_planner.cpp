@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // bench_planner: NBS planning time of the composed planner (issue 5). Method C_H (IG/Quality, Boundary Search +
 // Hole Rescan), bunny normalised to 160 mm on the pedestal, Tab. 4.3 parameters, DLR LSP, 2 threads, seed 1.
 // Headlines: planner.t_nbs_median_s (median over the planning steps of one closed loop; target ≤ 0.05 s, thesis

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Simulated scanner throughput on LSP scans of the bunny (0.16 m) against plain Embree in the same run:
 //   sim.scanner_vs_raw_embree    — SimulatedScanner::scan rays/s ÷ a raw rtcIntersect1 loop over the same rays
 //   sim.profile_vs_rtcintersect1 — Scene::cast_fan (packets, one profile at a time) ÷ the same rtcIntersect1 loop

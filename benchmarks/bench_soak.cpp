@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nbs_soak: long-run memory and time (issue 17). Not a Google Benchmark and not run by ctest.
 //  (a) object soak: N LSP scans of the bundled bunny (0.16 m, on the pedestal) from viewpoints on a 0.3 m sphere
 //      (Fibonacci directions, upper half, cycled in a seeded order), each integrated into a 2 mm voxel space and a

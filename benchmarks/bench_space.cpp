@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Probabilistic voxel space against OctoMap 1.9 on the same rays: six LSP scans (DLR LSP preset, noise Eq. 4.39)
 // of the bunny (0.16 m) from the Embree scanner, unknown area 0.24 × 0.24 × 0.2 m. Headlines (1 thread unless noted):
 //   space.insert_vs_octomap@5mm/@2mm/@1mm — rays/s of ProbabilisticVoxelSpace<> (thesis model) ÷ OctoMap

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Candidate evaluation (Sec. 4.5.3) on a realistic planning state: the bundled bunny (0.16 m on its pedestal)
 // scanned along 4 of the 13 initial scan paths (top, +x, +y, vertical edge (−x, −y)) (DLR LSP preset, Embree scanner), integrated into
 // ProbabilisticVoxelSpace<> (thesis model) at 5 mm with the unknown area = object box grown by 2 cm, mesh and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The evaluation harness nbs_eval (issue 6): a plain executable, not a Google Benchmark (scripts/bench.sh runs
 # bench_* only). Needs the Embree scanner and nlohmann-json (Debian nlohmann-json3-dev).
 find_package(nlohmann_json 3 QUIET)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The issue's checks of the thesis comparison, per mesh, from nbs_eval outputs, as a markdown table.
 
   python3 benchmarks/eval_checks.py NAME=OUT_DIR [NAME=OUT_DIR ...]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Streaming mesh (issue 4): bench_mesh. With nbs::embree the throughput headline streams simulated LSP scans of the
 # bundled bunny; without it, a synthetic sphere stream.
 if(TARGET nbs::embree)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nbs_diagnose: how good are the planner's choices? Runs the closed simulation loop of the default planner (C_H or
 // C_B/C_S) on a mesh and, at every planning step, executes EVERY candidate in the simulated scanner and measures its
 // true gain: the number of not-yet-covered ground-truth samples (non-bottom) within r (3 mm) of the candidate's

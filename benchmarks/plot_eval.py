@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Plots of an nbs_eval output directory (thesis Figs. 4.19-4.21), written as PNGs into that directory.
 
   python3 benchmarks/plot_eval.py OUT_DIR

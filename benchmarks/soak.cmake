@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The soak run (issue 17): nbs_soak, a plain executable (not run by ctest; scripts/bench.sh runs bench_* only, so
 # not by bench.sh either). Needs the Embree scanner. Usage: nbs_soak [--quick].
 if(TARGET nbs::embree AND NOT TARGET nbs_soak)

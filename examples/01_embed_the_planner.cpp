@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // 01 — embed the planner. The whole Next-Best-Scan loop in your program: build an nbs::NbsPlanner<>, feed it a first
 // scan, then next_best_scan() → move the sensor and scan → integrate() until done(). Replace scan_with_my_robot()
 // with your robot and sensor; here it ray-casts a sphere on the pedestal so the example runs anywhere.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // 02 — compose your planner: choose each policy of nbs::NbsPlanner at compile time (voxel space, mesh, candidate
 // search, utility, termination, collision checker), set a policy's Setting, and run the simulated loop on the bunny.
 // Usage: 02_compose_your_planner [scans = 5] [threads = 2]; exits 1 if c_a < 75 % after 5 or more scans.

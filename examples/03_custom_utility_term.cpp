@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // 03 — plug in your own utility term: a UtilityTerm sees every simulated ray of a candidate and every voxel it
 // crosses (nbs/utility/utility_term.hpp); wrap it in TermUtility<> and the planner selects scans by it.
 // Usage: 03_custom_utility_term [scans = 4]; exits 1 unless every planned scan had a positive gain and ĉ_m grew.

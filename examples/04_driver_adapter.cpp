@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // 04 — a thin hardware-driver adapter: convert a driver's units and frames to nbs's (SI, docs/architecture.md)
 // once, at the boundary: driver profiles and robot flange poses → nbs::Scan, next best scan → flange poses.
 // Usage: 04_driver_adapter (no hardware: the "SDK" is faked); exits 1 if a conversion or round trip is off.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // 05 — your own voxel space: any type that models nbs::VoxelSpace (nbs/space/concepts.hpp) can be the planner's
 // Space policy; examples/my_voxel_space.hpp is a complete one in ~50 lines (a log-odds hash map). Capabilities
 // such as BatchRayCastingSpace or a BlockBackend unlock fast paths; without them the generic ones serve.

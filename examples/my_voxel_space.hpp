@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The voxel space of example 05 (and of the VoxelSpace conformance test): a user's own VoxelSpace in a few lines.
 // Log-odds per key in a hash map (0 = unknown), +0.85 per hit, −0.4 per voxel a beam passes (each beam updates its

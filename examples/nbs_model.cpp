@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nbs_model — the main job: simulated autonomous modeling of the bundled Stanford bunny (or --mesh) with the
 // Next-Best-Scan planner (default IG+Quality with Boundary Search + Hole Rescan, method C_H, Sec. 4.7). A first
 // scan along one of the 13 initial paths (Sec. 4.7.2, chosen by --seed), then plan → scan (Embree simulated DLR

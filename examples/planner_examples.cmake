@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The numbered examples, in order of difficulty; each runs as the CTest test example.<name> and exits non-zero when
 # its own result is wrong.
 # 01: embed NbsPlanner<> in your program; core only (an analytic sphere stands in for the robot).

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds the benchmarks (Release) and runs every bench_* executable; prints each headline figure as
 # `name: value` on a line of its own and writes the same table, with machine and date, to docs/performance.md.
 # Usage: scripts/bench.sh [--quick]     (--quick: fewer repetitions, finishes in minutes)

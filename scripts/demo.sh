@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The main job: installs what is missing, builds nbs_model (Release, tests off) in build/demo and runs it on the
 # bundled Stanford bunny: autonomous modeling with the NBS planner (method C_H) until done or 30 scans; mesh,
 # voxels, candidates, pictures and report.json go to out/. Extra arguments go to nbs_model

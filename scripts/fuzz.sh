@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds the libFuzzer targets of tests/fuzz with clang (ASan + UBSan incl. float-cast-overflow) and runs each one.
 # Usage: scripts/fuzz.sh [--quick] [--time S] [--runs N] [--target fuzz_ply|fuzz_obj|fuzz_scan_ingestion] [--jobs J]
 #   --quick   20 s per target (what scripts/test.sh runs)
@@ -42,7 +43,8 @@ for t in "${targets[@]}"; do
   [[ $t == fuzz_scan_ingestion ]] && opts+=(-entropic=0)
   limit=(-max_total_time="$seconds"); [[ -n $runs ]] && limit=(-runs="$runs")
   log=$build/$t.log
-  echo "=== [fuzz] $t (${runs:+$runs runs}${runs:-$seconds s})"
+  if [[ -n $runs ]]; then label="$runs runs"; else label="$seconds s"; fi
+  echo "=== [fuzz] $t ($label)"
   if ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      "$build/$t" "$corpus" "tests/fuzz/corpus/$kind" "${opts[@]}" "${limit[@]}" -max_len=8192 -timeout=10 \
        -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/findings/$t-" >"$log" 2>&1; then

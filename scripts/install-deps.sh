@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
 # Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz]
 #   --with-plots  adds python3-matplotlib for benchmarks/plots

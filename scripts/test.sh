@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs what is missing, then builds and runs the tests with -Wall -Wextra -Werror:
 #   1. Release                           (build/test-release: every test, the examples and benchmarks)
 #   2. ASan + UBSan + float-cast-overflow (build/test-asan; every test — the examples are compiled in step 1)

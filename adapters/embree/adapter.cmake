@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 find_package(embree 3 QUIET)
 if(embree_FOUND)
   nbs_add_adapter(embree embree)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # nbs::fcl — FCL collision checking of the sensor head (Debian libfcl-dev 0.7.0, built with OctoMap support).
 # The obstacle voxels reach FCL as an octomap::OcTree exported by nbs::octomap, so nbs::fcl needs both.
 find_package(fcl QUIET)

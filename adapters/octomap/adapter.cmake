@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # nbs::octomap — the OctoMap backend of the probabilistic voxel space (Debian liboctomap-dev 1.9.7).
 find_package(octomap QUIET)
 if(octomap_FOUND)

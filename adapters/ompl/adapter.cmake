@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # nbs::ompl — transfer motions between scan paths with OMPL's RRT-Connect (Debian libompl-dev 1.5; Sec. 3.2.2).
 # OMPL's CMake config links Boost (serialization, filesystem, system) and ODE, installed by scripts/install-deps.sh.
 find_package(ompl QUIET)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Command line and configuration file of nbs_eval. Everything is validated here, before any work starts.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// nbs_eval as a function, `nbs::eval::main(argc, argv)` (callable from tests). See config.hpp for the options.

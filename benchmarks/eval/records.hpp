@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// One evaluation run as a JSON line (runs.jsonl) and the summary files (summary.json / .md / .csv, Tab. 4.5).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// One run of the experiment (Sec. 4.7.2): a seeded initial scan, then plan → scan → integrate until n_abort scans

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Statistics of the evaluation harness (thesis Sec. 4.7.2, Tab. 4.5, Eq. 4.41) and the per-method summary.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file Convenience header: every core type.
 #include "nbs/core/error.hpp"

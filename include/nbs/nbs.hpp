@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Umbrella header: every public header of the core library `nbs::nbs` (not the adapters under adapters/, not

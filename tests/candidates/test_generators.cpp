@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The CandidateGenerator concept and its models: sphere baseline, bad input, area sensors, determinism, the
 // planarity reading of Eqs. 4.19-4.21.
 #include <catch2/catch.hpp>

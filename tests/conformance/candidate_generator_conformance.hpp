@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::CandidateGenerator (include/nbs/candidates/candidate_generator.hpp). For each given
 // context the checked contract is:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::CollisionChecker (include/nbs/candidates/collision.hpp). Checked contract, for random
 // rigid poses in a box around the obstacles:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Obstacle spaces for the CollisionChecker conformance suites (core and FCL).
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance suite of the CoverageEstimator concept (nbs/coverage/coverage_estimator.hpp):
 // check_coverage_estimator_conformance(estimator, empty_mesh, closed_mesh, open_mesh, space, params, box) checks the

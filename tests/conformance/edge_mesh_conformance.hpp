@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::EdgeMesh (include/nbs/mesh/mesh_concept.hpp), with its optional capabilities.
 // Checked contract:

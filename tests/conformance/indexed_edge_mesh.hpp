@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A minimal user-written EdgeMesh over an IndexedMesh (consistently oriented, manifold edges): the user model of the
 // EdgeMesh conformance suite, also the mesh of the CoverageEstimator suite.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::RayCaster (include/nbs/sim/ray_caster.hpp). Checked contract on seeded random rays
 // (origins in a box around the mesh, directions uniform, half of them aimed at a random surface point):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::ScanSimulator (include/nbs/planner/simulation_loop.hpp). For each given path (chosen
 // so that the object is in view) the checked contract is:

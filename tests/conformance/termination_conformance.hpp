@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::TerminationCriterion (include/nbs/termination/criteria.hpp) over a grid of
 // ModelProgress values (n_s 0..40, ĉ_m and d̄_m in [0, 1] including the thresholds of Tab. 4.3). Checked contract:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The closed loop with an area sensor (issue 16): NbsPlanner<..., AreaSensor> through run_simulation with the
 // Embree scanner on a small analytic sphere on the pedestal. Lean: a 128 × 96 image, 5 mm voxels, four scans.
 

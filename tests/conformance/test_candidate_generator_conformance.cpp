@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CandidateGenerator conformance: BoundarySearch, HoleRescan, SphereSearch and a minimal user-written generator, on
 // a scanned plane with a hole (line and area sensor), an empty mesh and an empty unknown area.
 #include "candidate_generator_conformance.hpp"

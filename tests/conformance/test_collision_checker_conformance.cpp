@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CollisionChecker conformance: NoCollisions, VoxelCollisionChecker over a hand-built obstacle space and over a
 // ProbabilisticVoxelSpace, and a minimal user-written checker (the FCL checker: test_conformance_fcl).
 #include "collision_checker_conformance.hpp"

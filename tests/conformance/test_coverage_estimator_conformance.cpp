@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CoverageEstimator conformance: ThesisCoverage, UnseenLoopCoverage (with and without the enclosure test),
 // SelectableCoverage (all three forms) and a user-written estimator, on a cube and on the cube without its top face.
 // Oracle: the analytic areas — A_filled = 5 s², one border loop of 4 edges with A_hole = s² (Eq. 4.37), so Eq. 4.35

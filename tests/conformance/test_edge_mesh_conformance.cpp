@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // EdgeMesh conformance: StreamingMesh (thesis and noise-robust settings, after one and after two scans) and a
 // minimal user-written edge mesh over an IndexedMesh.
 #include "edge_mesh_conformance.hpp"

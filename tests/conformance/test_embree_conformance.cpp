@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Conformance of the Embree adapter's models: nbs::embree::Scene (RayCaster, against BruteForceRayCaster) and
 // nbs::embree::SimulatedScanner (ScanSimulator, with a LaserStripeProfiler and with an AreaSensor).
 #include "../embree/analytic_meshes.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CollisionChecker conformance for nbs::fcl::FclCollisionChecker (built only with the FCL adapter).
 #include "collision_checker_conformance.hpp"
 #include "collision_spaces.hpp"

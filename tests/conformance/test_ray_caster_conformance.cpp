@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // RayCaster conformance (core): BruteForceRayCaster and a minimal user-written analytic caster, against the
 // brute-force oracle (nbs::embree::Scene: test_conformance_embree).
 #include "ray_caster_conformance.hpp"

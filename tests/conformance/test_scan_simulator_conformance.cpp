@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ScanSimulator conformance (core): the analytic sphere scanner of the planner tests and a minimal user-written
 // scanner (the Embree SimulatedScanner, both sensor kinds: test_conformance_embree).
 #include "scan_simulator_conformance.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // TerminationCriterion conformance: the thesis criteria (Sec. 4.6), AllOf / AnyOf, default_termination and a
 // minimal user-written criterion, each against its documented rule.
 #include "termination_conformance.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // UtilityTerm conformance: every term in the repo (thesis terms, peer terms, RandomSelection, TermSet) and a minimal
 // user-written term, on one random voxel world.
 #include "utility_term_conformance.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance harness for nbs::UtilityTerm (include/nbs/utility/utility_term.hpp). A term is fed seeded random
 // candidate streams that follow the documented call protocol — begin_candidate(i); per ray begin_ray(), visit(v) for

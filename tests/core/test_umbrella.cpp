@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nbs/nbs.hpp on its own: it must compile stand-alone (this file includes nothing else) and give every folder.
 #include "nbs/nbs.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Uses the installed headers: fails to compile or link if the package is broken.
 #include <cstdio>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The headless renderer (nbs/embree/render.hpp). Oracles: analytic silhouettes of a sphere, hand-computed pixels.
 // The PNG encoder, colour map and JSON helpers it uses are tested in tests/io/test_png_json.cpp.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nbs_eval (issue 6): statistics against hand-computed values (type-7 quantiles, Eq. 4.41 notch, means), run
 // outcome and summary, config-file and CLI errors (before any work), and shards merged == the unsharded run.
 

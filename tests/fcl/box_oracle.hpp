@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Test support for sensor-head collisions: random poses, and oracles, independent of nbs's SAT code: box overlap by projecting the 8 corners of
 // both boxes on the 15 candidate axes; obstacle voxels enumerated one by one over the bounding box of the unknown area.

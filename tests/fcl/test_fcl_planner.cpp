@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // NbsPlanner with the FCL collision checker: the planner updates it from the voxel space after every scan
 // (SpaceTrackingCollisionChecker). Oracle: the core VoxelCollisionChecker reads the live space, so after the loop
 // both must agree on poses whose head box is not near an obstacle boundary; before any update the FCL snapshot

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer target: read_obj_bytes must throw FileError or return a mesh that passes IndexedMesh::validate().
 #include <cstddef>
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer target: read_ply_bytes must throw FileError or return a mesh that passes IndexedMesh::validate();
 // anything else (another exception, a crash, a sanitizer report, a hang) is a finding.
 #include <cstddef>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer target: NbsPlanner::integrate on a scan decoded from the input. A scan the planner rejects
 // (InvalidArgument) must leave it unchanged (n_s, the space's totals, the mesh's counters); a scan it takes must
 // leave the mesh consistent (check_invariants). Anything else — another exception, a crash, a sanitizer report — is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PlyWriter (the one PLY writer) and write_candidates_ply. Oracles: the strict header parser of the reader, bytes
 // computed here, the ascii body parsed back with strtod.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The PNG encoder (nbs/io/png.hpp), the utility colour map (color.hpp) and the report JSON helpers
 // (json_format.hpp). Oracles: an independent bitwise CRC-32 and Adler-32, a stored-block deflate decoder written
 // here, hand-computed colours and strings.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Test helper: a laser stripe profiler simulated analytically (no Embree). Rays of each profile lie in the sensor
 // x–z plane (types.hpp convention), the path moves along sensor y; hits get seeded Gaussian noise along the ray.

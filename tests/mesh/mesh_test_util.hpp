@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared oracles for the mesh tests: brute-force coverage and normal agreement against analytic shapes.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // StreamingMesh input validation (issue 17): a scan, pose or point the mesh cannot take throws InvalidArgument naming
 // the index and the value, and changes nothing — the oracle is a twin mesh that never saw the bad input.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The first two stages of the StreamingMesh (density limitation and normal estimation, Sec. 3.3.1) against a
 // brute-force reference that keeps no cache: every ball is a linear scan over all stored points. A pending vertex is
 // retried whenever its N_act reached 6 and grew by 2 since its last failed estimate, as documented; its kept ball

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Voxel classification agreement between a native log-odds space and an OctoMap tree filled by OctoMap's own
 // insertion (the oracle of issue 3): every voxel observed by either side is classified unknown / free / occupied

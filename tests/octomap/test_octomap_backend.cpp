@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The OctoMap backend: conformance suite, identical results to the native backend, OctoMap itself as oracle.
 #include <catch2/catch.hpp>
 

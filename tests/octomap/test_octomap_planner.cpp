@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The OctoMap space as a VoxelSpace: the conformance suite, and NbsPlanner run end to end with it. Oracle: the same
 // planner over the native hashed-block space with the same LogOddsModel (identical voxel states, see
 // test_octomap_backend.cpp) plans the same scans, step for step.

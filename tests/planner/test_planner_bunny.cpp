@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The closed loop on the bundled Stanford bunny (160 mm on the pedestal) with the Embree scanner: thread-count
 // determinism and the acceptance target ĉ_m ≥ 0.8 within n_abort = 30 scans (method C_H, Tab. 4.3).
 // Set NBS_PLANNER_VERBOSE=1 to print one line per scan.

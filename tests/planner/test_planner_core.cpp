@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Core-only planner tests (no Embree): bad input and statuses, the runtime facade's codes, and the closed loop on an
 // analytic sphere standing on the pedestal (determinism over thread counts, termination, BS → HR switch).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Integer 3D-DDA against brute-force enumeration of the voxels a segment crosses (exact rational arithmetic).
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PLY export and surface-feature storage.
 #include <catch2/catch.hpp>
 

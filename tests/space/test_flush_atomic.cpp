@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // All-or-nothing integration with flushed blocks: a flushed block file that is truncated, corrupted or deleted makes
 // integrate throw FileError with the voxel states, totals and flush counters unchanged; a failed flush after a scan
 // is reported in BlockFlushStats and the scan still succeeds.

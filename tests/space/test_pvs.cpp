@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ProbabilisticVoxelSpace front end: log-odds model by hand, bounds, bad input, statistics.
 #include <catch2/catch.hpp>
 

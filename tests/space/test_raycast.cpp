@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Planning ray casts: oracle = traverse_segment + first occupied voxel; parallel results equal serial ones.
 #include <catch2/catch.hpp>
 

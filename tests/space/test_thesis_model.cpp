@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The thesis update model (Sec. 3.3.2, Eqs. 3.4–3.8) against hand-computed values.
 #include <catch2/catch.hpp>
 

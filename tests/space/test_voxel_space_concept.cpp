@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The VoxelSpace concept (nbs/space/concepts.hpp): its conformance suite on every space model in the core and on a
 // space written by a user in a few lines, example 05's MyVoxelSpace (the OctoMap space runs the same suite in
 // tests/octomap).

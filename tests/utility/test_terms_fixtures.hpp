@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared fixtures of the utility-term tests: a small log-odds voxel space with hand-known probabilities.
 #include <cstdint>

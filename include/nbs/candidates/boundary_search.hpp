@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Boundary Search (Secs. 4.2–4.3): one scan candidate per boundary of the last scan, from the surface trend beside

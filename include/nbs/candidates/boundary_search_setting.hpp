@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Setting of the Boundary Search (Sec. 4.3.1) for what the thesis leaves open.

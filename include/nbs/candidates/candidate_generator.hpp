@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The CandidateGenerator concept: a policy that turns a planning context into scan candidates (Sec. 4.3, 4.4).

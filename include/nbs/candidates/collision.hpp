@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Collision checking of the sensor head for scan-path replanning (Sec. 4.5.2) and motion planning (Sec. 3.2.2):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Enclosure test for the unseen-loop ĉ_m (ours, UnseenLoopCoverage with the enclosure test, the form unseen_open): is a point walled

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file Convenience header: the CandidateGenerator concept and its models (Boundary Search, Hole Rescan, sphere).
 #include "nbs/candidates/boundary_search.hpp"

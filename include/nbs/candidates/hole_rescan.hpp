@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Hole Rescan (Sec. 4.4, Alg. 2, Eqs. 4.22–4.23): one scan path per hole (or per group of similar holes), looking

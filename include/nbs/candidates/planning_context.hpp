@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The read-only input of every scan-candidate generator: mesh, voxel space, last sensor pose, sensor geometry,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Surface trend estimation: weighted least-squares quadratic patch, Eqs. (4.5)–(4.11), and its normal, Eq. (4.13).

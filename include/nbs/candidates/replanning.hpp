@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Replanning for occlusions and collisions (Sec. 4.5.2, Alg. 3, Eq. 4.29): a scan path candidate is rotated about

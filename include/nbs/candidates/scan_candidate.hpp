@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Scan candidate (Sec. 4.3): a linear scan path plus where it came from and which surface it is meant to see.

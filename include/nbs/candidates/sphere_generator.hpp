@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The sphere search baseline (Sec. 4.7.2) as a CandidateGenerator.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Sphere search baseline (Sec. 4.7.2): fixed scan paths on a sphere around the object, inclination × azimuth.

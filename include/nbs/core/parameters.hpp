@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Parameters of the NBS method with the defaults of Tab. 4.3 (thesis simulation), SI units.

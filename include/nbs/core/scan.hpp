@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// A range scan: per-profile sensor poses and the measured points with their lines of sight.

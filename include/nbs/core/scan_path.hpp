@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Linear scan path (Sec. 4.3.2): the sensor keeps one orientation and moves on a straight line from S_1 to S_2.

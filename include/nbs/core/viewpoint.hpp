@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Sensor viewpoint S = (s_x s_y s_z s_p; 0 0 0 1), Eq. (4.12).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The mesh-coverage estimate ĉ_m (Eq. 4.35) as a planner policy: concept `CoverageEstimator` and its models.

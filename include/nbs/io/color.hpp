@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// 8-bit RGB colours and the colour map of the candidate pictures and candidate PLY files (Fig. 4.16).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Tiny JSON formatting helpers for run reports (report.json of nbs_model): numbers that round-trip, `null` for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Loads a triangle mesh from OBJ or PLY, chosen by the file's content.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Topology and geometry counts of a loaded mesh, and a loader that can refuse non-manifold input.

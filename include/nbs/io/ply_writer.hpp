@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The one PLY writer behind every `write_*_ply`: declare the elements and their properties, then write the body

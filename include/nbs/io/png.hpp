@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// A minimal PNG encoder (8-bit RGB, no interlace) without a zlib dependency: the image data is stored in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Wavefront OBJ reader (tinyobjloader, double precision; materials are ignored).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Strict PLY reader (ascii, binary little/big endian) for triangle meshes: `vertex` (x, y, z), `face`

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The scan candidates of one planning step as PLY line segments (Fig. 4.16), for viewers such as MeshLab or

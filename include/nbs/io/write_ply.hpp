@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// PLY writers for point clouds (optional normals and colours) and indexed triangle meshes (on PlyWriter: the

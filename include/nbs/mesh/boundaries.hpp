@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Boundary detection (Sec. 4.2.1, Alg. 1, Tab. 4.1).

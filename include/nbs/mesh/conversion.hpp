@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Conversion of any EdgeMesh to an owning IndexedMesh (vertices in at least one face, with their normals).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Mean relative point density d̄_m (Sec. 4.6) from the per-vertex d(v) = N_act / N_max (Eqs. 4.24–4.25).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Holes (Sec. 4.4) and the estimated mesh coverage (Sec. 4.6, Eqs. 4.35–4.37).

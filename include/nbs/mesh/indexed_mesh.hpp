@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// IndexedMesh: an owning indexed triangle set (vertices + triangles), used for ground-truth objects and export.

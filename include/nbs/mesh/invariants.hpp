@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Consistency checker for any EdgeMesh: used by the tests and, through NBS_MESH_DEBUG_CHECK, in debug builds.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file Convenience header: the mesh concept, the streaming mesh and every mesh analysis.
 #include "nbs/mesh/boundaries.hpp"

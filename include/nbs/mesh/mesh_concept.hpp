@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The edge-mesh concept of Sec. 3.3.1 (Fig. 3.9): vertices with normals and directed edges, each carrying the

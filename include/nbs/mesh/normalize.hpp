@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Places a ground-truth mesh on the pedestal (Sec. 4.7): scaled, centred, standing on z = 0.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// PLY export of a mesh: vertices (double x y z), normals (double nx ny nz), faces (list uchar uint).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// StreamingMesh: the default EdgeMesh, built point by point from the sensor stream (Sec. 3.3.1, after

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// What configures and what reports a StreamingMesh (streaming_mesh.hpp): StreamingMeshSettings (the radii R_r, R_n,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Surface features per voxel (Sec. 4.5.1): mean relative density d̄_i (Eq. 4.26), mean normal n̄_i (Eq. 4.27) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// NbsPlanner: the Next-Best-Scan planner of Fig. 4.1 composed from policies at compile time — voxel space (Sec.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Results, statistics and the setting of NbsPlanner (Secs. 4.1, 4.5, 4.6). Units: SI (metres, seconds).

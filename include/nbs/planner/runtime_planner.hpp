@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The compiled runtime facade for CLIs and configuration files: a closed set of methods (thesis Fig. 4.19 codes,

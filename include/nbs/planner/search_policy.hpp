@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The planner's candidate search policy (Secs. 4.1, 4.6): which generator explores the object first and which one

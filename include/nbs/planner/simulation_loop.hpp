@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The closed simulation loop of Sec. 4.7: a first scan along one of the 13 initial paths (Sec. 4.7.2, chosen by a

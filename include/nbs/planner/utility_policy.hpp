@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The planner's utility policy (Sec. 4.5.3): scores the candidate scan paths of one planning step.

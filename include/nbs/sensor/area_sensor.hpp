@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Area (range-image) sensor: RGB-D camera or stereo pair, one frame per viewpoint.

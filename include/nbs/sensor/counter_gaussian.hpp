@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Counter-based standard-normal numbers: the value for (seed, stream, index) does not depend on call order or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Laser stripe profiler: a fan of rays in the sensor x–z plane, swept along a linear scan path (Sec. 4.3.2).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Sensor presets: the thesis simulation sensor (Sec. 4.7, Eq. 4.39) and the sensors of Tab. 5.1.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Distance-dependent range noise σ(d) of a sensor: a polynomial in the true distance d along the ray.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Actual completeness c_a (without bottom) and c_b (with bottom) of a model against ground-truth samples

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// GroundTruth: the known object of a simulation run with everything the metrics need built once — surface samples,

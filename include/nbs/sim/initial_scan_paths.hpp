@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The 13 initial scan paths of Sec. 4.7.2: along the five sides and eight edges of the object's bounding box that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// MeshDistance: exact unsigned distance from points to a triangle mesh surface, and the RMS error ē (Tab. 5.2).

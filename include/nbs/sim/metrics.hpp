@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Umbrella header of the ground-truth metrics (Sec. 4.7.2, Tab. 5.2): surface samples, c_a / c_b, c_obs, ē, l_s,

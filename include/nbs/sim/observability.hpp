@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Observability ceiling c_obs: the share of non-bottom ground-truth samples that some admissible sensor position

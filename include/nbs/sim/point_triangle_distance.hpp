@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Exact closest point on a triangle (Ericson, Real-Time Collision Detection, Sec. 5.1.5), degenerate-safe.

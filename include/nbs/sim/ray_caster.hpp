@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// RayCaster concept: anything that returns the first intersection of a ray with a surface, plus a brute-force

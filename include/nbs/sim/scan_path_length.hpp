@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Scan path length l_s (Sec. 4.7.2, Tab. 4.5): the summed length of the executed linear scan paths.

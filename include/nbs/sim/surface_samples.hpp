@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Seeded area-uniform samples of a ground-truth surface, each flagged "bottom" if the pedestal hides it

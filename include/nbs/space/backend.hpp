@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The VoxelBackend concept: storage of one state per voxel, adapted through `backend_traits<B>`.

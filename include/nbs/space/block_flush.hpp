@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The flush policy and flush counters of HashedBlockBackend (hashed_block_backend.hpp), which writes cold blocks to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// How a block of HashedBlockBackend lays out the states of its 8³ voxels: `BlockStates<State>`.

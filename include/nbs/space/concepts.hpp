@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The voxel-space contract: one concept, `VoxelSpace`, for everything a planner, a generator, a utility or a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Export of the voxel space as a PLY point set: one vertex per voxel centre with its occupancy probability p and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The native voxel backend: a hash map of 8³ blocks (after Bonxai / Dymodda), with optional flushing of cold blocks

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// KeySlots: voxel key → small integer slot, for per-call accumulation over a bounded set of voxels. Dense (one

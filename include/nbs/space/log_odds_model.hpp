@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// OctoMap-compatible update model: clamped log-odds, +log(p_hit/(1−p_hit)) for the end-point voxel of a beam,

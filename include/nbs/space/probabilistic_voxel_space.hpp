@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// ProbabilisticVoxelSpace (PVS, Sec. 3.3.2): a voxel backend updated from scans by an update model, restricted to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The planning ray cast of the VoxelSpace contract written once for any space: `walk_ray_generic(space, ray,

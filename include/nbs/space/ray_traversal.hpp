@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Voxels crossed by a segment (exact integer 3D-DDA, see detail/segment_walker.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Value types shared by every voxel space (VoxelSpace, space/concepts.hpp): what integrating a scan did, a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Sparse per-voxel storage of the surface features of Sec. 4.5.1, kept apart from the voxel states so that only

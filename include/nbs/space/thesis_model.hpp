@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The thesis's update model (Sec. 3.3.2, after Suppa 2008 and Konolige's MURIEL): an inverse sensor model with

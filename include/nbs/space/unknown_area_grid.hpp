@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// UnknownAreaGrid: the voxel grid of a space together with the bounding box of the unknown area (Sec. 4.1) it is

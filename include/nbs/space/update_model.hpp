@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The UpdateModel concept: how one beam changes the state of the voxels it crosses (Sec. 3.3.2).

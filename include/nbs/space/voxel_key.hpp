@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Integer voxel keys and the world ↔ key mapping of a voxel grid with edge length l_v.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Termination criteria (Sec. 4.6): a concept, the thesis criteria, and all/any composition.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Process control (Sec. 4.6): switch from Boundary Search to Hole Rescan when ĉ_m stagnates, Eq. (4.38).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file Convenience header: NBS utility (Sec. 4.5.3) — scalars, terms, peer metrics, candidate evaluation, runtime
 /// selection.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The simulated beams of a scan candidate (Sec. 4.5.3): the sensor's rays along a linear scan path, clipped to the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Candidate evaluation (Sec. 4.5.3): simulate each scan candidate's beams in the voxel space, feed the visited

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Volumetric information (VI) metrics compared by Delmerico, Isler, Sabzevari, Scaramuzza, "A comparison of

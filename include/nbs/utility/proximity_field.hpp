@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// ProximityField: for unobserved voxels near the observed surface, the distance d(x) to the nearest occupied voxel

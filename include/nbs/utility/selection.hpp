@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Runtime choice of the selection criterion (Sec. 4.7 and the peer metrics of Delmerico et al. 2018) for CLIs and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The utility terms of the thesis (Sec. 4.5.3): volumetric entropy e_v (Eq. 4.32), surface quality q_s

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The scalar pieces of the NBS utility, Sec. 4.5.3: ω(n_s) (Eq. 4.31), per-voxel entropy (Eq. 4.32 summand),

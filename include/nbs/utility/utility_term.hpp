@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The UtilityTerm concept: a utility accumulated per simulated ray and per visited voxel, so that one ray cast

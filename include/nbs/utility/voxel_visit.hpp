@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// What a utility term sees of one simulated beam (Sec. 4.5.3): one `VoxelVisit` per voxel the planning ray

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Must NOT compile: a type that is not a UtilityPolicy given to NbsPlanner. The CTest `planner_compile_fail`
 // builds this file and passes only if the compiler rejects it naming the concept (docs/architecture.md shows the
 // message).

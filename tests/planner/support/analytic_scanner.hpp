@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Core-only stand-in for the Embree scanner: exact ray casts against a sphere standing on the pedestal (z = 0),
 // working range and Eq. (4.39)-style noise of the sensor along the ray (CounterGaussian, addressed by seed,

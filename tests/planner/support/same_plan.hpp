@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Two closed-loop results describe the same plan (the oracle of the determinism and backend-equivalence tests): at
 // every scan the same path (start pose, end position), the same number of measured points, the same ĉ_m, best

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One conformance suite for every VoxelBackend: run by tests/space (native) and tests/octomap (OcTree).
 #include <catch2/catch.hpp>

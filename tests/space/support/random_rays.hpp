@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Random planning rays around the synthetic sphere of synthetic_scan.hpp (origins and ends in and around the box).
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Scans made of a few hand-placed beams.
 #include <initializer_list>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Synthetic laser-stripe scans of an analytic sphere (tests and benchmarks of the voxel space).
 // Coordinates are rounded to float so that OctoMap (float points) sees exactly the same beams.

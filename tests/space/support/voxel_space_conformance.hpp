@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Conformance suite of the VoxelSpace concept (nbs/space/concepts.hpp), run on every model in the repository and on
 // a user-written space: check_voxel_space_conformance<S>(). Oracles are analytic: a wall of points at x = 0.055 m

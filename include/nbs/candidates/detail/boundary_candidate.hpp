@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// One Boundary Search candidate from one boundary (Secs. 4.2.2, 4.3.1, 4.3.2).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Boundary region V_B (Sec. 4.2.2): region growing from c_b (Eq. 4.4) inside a box in the last sensor frame,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Alg. 2 building blocks: fixed direction pattern, occlusion test in the voxel space, the 20 % selection rule.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Vertex adjacency (CSR) and the triangulated vertices of an EdgeMesh, built once per generator call.

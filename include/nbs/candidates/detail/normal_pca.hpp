@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Planarity of a boundary region from its surface normals (Sec. 4.3.1, Eqs. 4.19–4.21).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Viewpoint calculation along the quadratic patch (Sec. 4.3.1, Tab. 4.2, Eqs. 4.13–4.18), in the last sensor

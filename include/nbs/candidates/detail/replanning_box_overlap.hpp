@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Oriented box vs axis-aligned box overlap by the separating axis theorem (15 axes), for collision checks of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Geometric part of the occlusion test of Alg. 3 (Sec. 4.5.2): can the sensor at one pose measure a target point

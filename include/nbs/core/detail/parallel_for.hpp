@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Minimal deterministic parallel loop over an index range with std::thread (no OpenMP).

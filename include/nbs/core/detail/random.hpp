@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Portable seeded random numbers (simulation metrics, planner and utility seeds): std::mt19937_64 (its output

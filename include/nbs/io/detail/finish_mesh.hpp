@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The last step of every mesh reader: IndexedMesh::validate(), its InvalidArgument reported as a FileError that

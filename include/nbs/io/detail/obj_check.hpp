@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Strict check of the `v` and `f` lines of an OBJ text before tinyobjloader reads it: tinyobjloader turns

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Bounds-checked reading of PLY body values (ascii tokens or binary bytes of either endianness).

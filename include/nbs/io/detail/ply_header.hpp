@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// PLY header: formats, property types, elements; strict parser (every keyword, type and count checked).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Splitting a text line into words (the ascii PLY and OBJ readers).

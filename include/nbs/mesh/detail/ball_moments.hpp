@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// BallMoments: running weighted first and second moments of a pending StreamingMesh vertex's R_n ball, for an O(1)

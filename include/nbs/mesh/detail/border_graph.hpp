@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Border edges (Eq. 4.1) of an EdgeMesh, directed so that their triangle lies on the left, with per-vertex

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Triangles with vertex→face adjacency. The directed edges of Fig. 3.9 are read off the faces: a face (a, b, c) is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Localized triangulation of one new vertex (Sec. 3.3.1, "mesh generation" stage): the R_m neighbourhood is

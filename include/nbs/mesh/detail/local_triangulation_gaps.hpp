@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// LocalTriangulator, closing the gaps the fan left (close_gaps, see its comment in local_triangulation.hpp): the

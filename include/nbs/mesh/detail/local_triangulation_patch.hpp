@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// LocalTriangulator, placing the new vertex v (see local_triangulation.hpp for the class and the steps): collecting

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Weighted PCA normal estimation over a ball neighbourhood (Sec. 3.3.1, "normal estimation" stage).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Spatial hash grid of point ids for ball queries. Cells are cubes of edge `cell_m`, grouped in blocks of 4×4×4

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// StreamingMesh's stream stages, defined out of the class (streaming_mesh.hpp, which includes this file at its

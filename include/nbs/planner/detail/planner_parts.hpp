@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Construction helpers of NbsPlanner: the voxel space (a NoiseModelSpace with the sensor's σ(d)), the termination

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// PointKdTree: an owning 3D kd-tree (nanoflann 1.4) with nearest-neighbour and "any point within r" queries.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// The files of HashedBlockBackend's flushed blocks: one file `<block id, 16 hex digits>.blk` per block in a folder

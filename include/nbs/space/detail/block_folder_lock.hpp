@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Ownership of a HashedBlockBackend flush folder `nbs-blocks-<n>`, so that the folders a killed process leaves

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// CachedBlockReader: HashedBlockBackend's read-only block lookups for one thread's walks (the backend's

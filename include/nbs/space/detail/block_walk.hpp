@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Segment walks over a BlockBackend (space/concepts.hpp) that look a block up only when the walk enters a new block.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// HashedBlockBackend's flushing and reloading members, defined out of the class (hashed_block_backend.hpp, which

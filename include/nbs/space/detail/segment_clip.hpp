@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Clipping of a segment to an axis-aligned box (the planning casts and the update walks clip to voxel_bounds()).

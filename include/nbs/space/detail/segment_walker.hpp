@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Exact integer 3D-DDA (Amanatides–Woo) in key space, without floating point in the loop.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// A small open-addressing hash set of packed voxel keys, cleared in O(1) by a generation stamp, so one set is

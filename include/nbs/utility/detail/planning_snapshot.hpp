@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// A read-only snapshot of a voxel space for candidate evaluation: for every voxel of the bounding box of the unknown

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// A small headless renderer on the Embree adapter: one primary ray per pixel against a Scene, Lambert shading with

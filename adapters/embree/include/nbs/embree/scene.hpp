@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Embree scene built from an IndexedMesh: a model of the nbs::RayCaster concept plus a packet path for

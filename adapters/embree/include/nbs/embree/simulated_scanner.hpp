@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Simulated range scanning of a ground-truth mesh with Embree (Sec. 4.7): ray casting, working range, seeded

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// FCL-based `CollisionChecker` (Sec. 3.2.2, Sec. 4.5.2): the sensor head box against (a) the obstacle voxels of a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Reference insertion of an nbs::Scan into an `octomap::OcTree` with OctoMap's own ray casting, treating the whole

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// Export of a ProbabilisticVoxelSpace as an `octomap::OcTree` obstacle model for collision checking (e.g. FCL's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// `octomap::OcTree` as a VoxelBackend (state: LogOddsState), adapted through `backend_traits` without wrapping.

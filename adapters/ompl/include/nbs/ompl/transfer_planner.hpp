@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// nbs::ompl — collision-free transfer motions of the sensor between scan paths (Sec. 3.2.2: the thesis plans them
