@@ -5,9 +5,12 @@
 /// (polygons, fan-triangulated) and `tristrips` (−1 restarts a strip) elements; other elements and properties
 /// are skipped.
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "nbs/io/detail/file_bytes.hpp"
@@ -44,20 +47,20 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
   }
 }
 
-}  // namespace io_detail
+/// What parse_ply reads from a PLY file: the `vertex` element's x y z, per vertex the values of the requested extra
+/// scalar properties, and the triangles of the `face` / `tristrips` elements (indices in range; not yet validated as
+/// a mesh).
+struct PlyContents {
+  std::vector<Vec3> vertices;
+  std::vector<IndexedMesh::Triangle> triangles;
+  std::vector<double> extras;  ///< vertices.size() × extra names, row-major; 0 where has_extra is false
+  std::vector<bool> has_extra; ///< per extra name: the vertex element has it
+};
 
-/// Reads a triangle mesh from a PLY file (metres are not assumed: coordinates are copied as stored).
-/// Faces with n ≥ 3 vertices become n − 2 triangles (v0, v_i, v_i+1); `tristrips` lists become strips with
-/// alternating winding, −1 starting a new strip. Throws FileError naming the file, the line or element record
-/// and the problem for: a bad or truncated header, an unknown type, wrong property types (x/y/z lists, non-integer
-/// indices), truncated or surplus data, non-finite coordinates, faces with < 3 vertices, indices out of range,
-/// no triangle at all. Nothing is returned on failure.
-[[nodiscard]] inline IndexedMesh read_ply(const std::string& path);
-
-/// read_ply of a file's contents held in memory: `bytes` is the whole file, `path` names it in the messages.
-/// The same checks and errors as read_ply.
-[[nodiscard]] inline IndexedMesh read_ply_bytes(const std::string& path, const std::string& bytes) {
-  using namespace io_detail;
+/// Parses `bytes` (a whole PLY file, named `path` in the messages). `extra_names` are vertex properties to read
+/// besides x y z; each one the file has must be a scalar. Throws FileError as documented at read_ply.
+[[nodiscard]] inline PlyContents parse_ply(const std::string& path, const std::string& bytes,
+                                           std::span<const std::string_view> extra_names = {}) {
   const PlyHeader header = parse_ply_header(path, bytes);
   std::uint64_t vertex_count = 0;
   for (const auto& e : header.elements)
@@ -65,12 +68,16 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
   if (vertex_count > std::numeric_limits<std::uint32_t>::max())
     throw FileError(detail::concat(path, ": ", vertex_count, " vertices exceed the 32-bit index range"));
 
-  IndexedMesh mesh;
+  PlyContents out;
+  out.has_extra.assign(extra_names.size(), false);
+  const std::size_t n_extra = extra_names.size();
   PlyBodyReader in(path, bytes, header);
   std::vector<std::uint32_t> list;
+  std::vector<double> extra(n_extra, 0.0);
   for (const auto& e : header.elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face", is_strip = e.name == "tristrips";
     int xyz[3] = {-1, -1, -1};
+    std::vector<int> extra_at(n_extra, -1);  // property index of each extra name
     if (is_vertex) {
       const char* names[3] = {"x", "y", "z"};
       for (int a = 0; a < 3; ++a) {
@@ -78,6 +85,13 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
         if (xyz[a] < 0 || e.properties[static_cast<std::size_t>(xyz[a])].is_list)
           throw FileError(detail::concat(path, ": line ", e.header_line, ": element 'vertex' needs a scalar property '",
                                          names[a], "'"));
+      }
+      for (std::size_t j = 0; j < n_extra; ++j) {
+        extra_at[j] = e.find(extra_names[j]);
+        if (extra_at[j] >= 0 && e.properties[static_cast<std::size_t>(extra_at[j])].is_list)
+          throw FileError(detail::concat(path, ": line ", e.header_line, ": vertex property '", extra_names[j],
+                                         "' must be a scalar"));
+        out.has_extra[j] = extra_at[j] >= 0;
       }
     }
     const int index_prop = is_face || is_strip ? index_list_property(path, e) : -1;
@@ -87,11 +101,15 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
     if (min_record > 0 && e.count > (in.remaining() + 1) / min_record)
       throw FileError(detail::concat(path, ": element '", e.name, "' declares ", e.count, " records but only ",
                                      in.remaining(), " bytes follow (truncated?)"));
-    if (is_vertex) mesh.vertices.reserve(static_cast<std::size_t>(e.count));
+    if (is_vertex) {
+      out.vertices.reserve(static_cast<std::size_t>(e.count));
+      out.extras.reserve(static_cast<std::size_t>(e.count) * n_extra);
+    }
 
     for (std::uint64_t r = 0; r < e.count; ++r) {
       in.begin_record(e, r);
       Vec3 v = Vec3::Zero();
+      std::fill(extra.begin(), extra.end(), 0.0);
       list.clear();
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const PlyProperty& p = e.properties[k];
@@ -99,6 +117,8 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
           const double x = in.read_real(p.type, p.name);
           for (int a = 0; a < 3; ++a)
             if (static_cast<int>(k) == xyz[a]) v[a] = x;
+          for (std::size_t j = 0; j < n_extra; ++j)
+            if (static_cast<int>(k) == extra_at[j]) extra[j] = x;
           continue;
         }
         const std::int64_t n = in.read_int(p.count_type, p.name + " count");
@@ -122,24 +142,45 @@ inline void append_strip(const std::vector<std::uint32_t>& s, std::vector<Indexe
       in.end_record();
       if (is_vertex) {
         if (!v.allFinite()) in.fail("non-finite coordinate (", v.transpose(), ")");
-        mesh.vertices.push_back(v);
+        out.vertices.push_back(v);
+        out.extras.insert(out.extras.end(), extra.begin(), extra.end());
       } else if (is_face) {
-        for (std::size_t i = 1; i + 1 < list.size(); ++i) mesh.triangles.push_back({list[0], list[i], list[i + 1]});
+        for (std::size_t i = 1; i + 1 < list.size(); ++i) out.triangles.push_back({list[0], list[i], list[i + 1]});
       } else if (is_strip) {
         std::vector<std::uint32_t> strip;
         for (std::uint32_t idx : list) {
           if (idx == std::numeric_limits<std::uint32_t>::max()) {
-            append_strip(strip, mesh.triangles);
+            append_strip(strip, out.triangles);
             strip.clear();
           } else {
             strip.push_back(idx);
           }
         }
-        append_strip(strip, mesh.triangles);
+        append_strip(strip, out.triangles);
       }
     }
   }
   in.finish();
+  return out;
+}
+
+}  // namespace io_detail
+
+/// Reads a triangle mesh from a PLY file (metres are not assumed: coordinates are copied as stored).
+/// Faces with n ≥ 3 vertices become n − 2 triangles (v0, v_i, v_i+1); `tristrips` lists become strips with
+/// alternating winding, −1 starting a new strip. Throws FileError naming the file, the line or element record
+/// and the problem for: a bad or truncated header, an unknown type, wrong property types (x/y/z lists, non-integer
+/// indices), truncated or surplus data, non-finite coordinates, faces with < 3 vertices, indices out of range,
+/// no triangle at all. Nothing is returned on failure.
+[[nodiscard]] inline IndexedMesh read_ply(const std::string& path);
+
+/// read_ply of a file's contents held in memory: `bytes` is the whole file, `path` names it in the messages.
+/// The same checks and errors as read_ply.
+[[nodiscard]] inline IndexedMesh read_ply_bytes(const std::string& path, const std::string& bytes) {
+  io_detail::PlyContents c = io_detail::parse_ply(path, bytes);
+  IndexedMesh mesh;
+  mesh.vertices = std::move(c.vertices);
+  mesh.triangles = std::move(c.triangles);
   return detail::finish_mesh(path, std::move(mesh));
 }
 
