@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Builds the libFuzzer targets of tests/fuzz with clang (ASan + UBSan incl. float-cast-overflow) and runs each one.
-# Usage: scripts/fuzz.sh [--quick] [--time S] [--runs N] [--target fuzz_ply|fuzz_obj|fuzz_scan_ingestion] [--jobs J]
-#   --quick   20 s per target (what scripts/test.sh runs)
+# Usage: scripts/fuzz.sh [--quick] [--time S] [--runs N] [--target fuzz_ply|fuzz_obj|fuzz_pcd|fuzz_scan_ingestion] [--jobs J]
+#   --quick   15 s per target (what scripts/test.sh runs)
 #   --time S  S seconds per target (default 300)
 #   --runs N  stop each target after N executions instead (e.g. 10000000 for a campaign)
 # The repository's seed corpus (tests/fuzz/corpus/<kind>) is copied into build/fuzz/corpus-<target>, which keeps
@@ -12,10 +12,10 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-seconds=300 runs="" targets=(fuzz_ply fuzz_obj fuzz_scan_ingestion) jobs=${NBS_JOBS:-$(nproc)}
+seconds=300 runs="" targets=(fuzz_ply fuzz_obj fuzz_pcd fuzz_scan_ingestion) jobs=${NBS_JOBS:-$(nproc)}
 while (($#)); do
   case $1 in
-    --quick) seconds=20 ;;
+    --quick) seconds=15 ;;
     --time) seconds=$2; shift ;;
     --runs) runs=$2; shift ;;
     --target) targets=("$2"); shift ;;

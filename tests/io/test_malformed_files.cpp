@@ -80,7 +80,7 @@ TEST_CASE("malformed PLY files throw FileError naming file, place and problem", 
        "element 'face' declares 4000000000 records but only 1 bytes follow"},
       {"no_faces", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                    "end_header\n0 0 0\n",
-       "mesh is empty"},
+       "1 vertices and no faces: a point cloud, not a mesh"},
       {"zero_area", kHead + "0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n", "zero area"},
       {"truncated_binary",
        "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"

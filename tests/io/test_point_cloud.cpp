@@ -3,31 +3,24 @@
 // normals and colours), a mesh file read as a cloud, and malformed clouds rejected with file, record and value.
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "nbs/io/load_mesh.hpp"
+#include "nbs/io/load_point_cloud.hpp"
 #include "nbs/io/read_ply_points.hpp"
+#include "nbs/io/write_pcd.hpp"
 #include "nbs/io/write_ply.hpp"
+#include "random_cloud.hpp"
 #include "temp_dir.hpp"
 
 using Catch::Matchers::Contains;
 using nbs::Vec3;
 
 namespace {
-nbs::PointCloud random_cloud(std::size_t n, bool normals, bool colors, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-2.0, 2.0);
-  nbs::PointCloud c;
-  for (std::size_t i = 0; i < n; ++i) {
-    c.points.emplace_back(u(rng), u(rng), u(rng));
-    if (normals) c.normals.push_back(Vec3(u(rng), u(rng), u(rng)).normalized());
-    if (colors) c.colors.push_back({static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()),
-                                    static_cast<std::uint8_t>(rng())});
-  }
-  return c;
-}
-
 const std::string kHead = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n";
 }  // namespace
 
@@ -38,7 +31,7 @@ TEST_CASE("read_ply_points reads write_ply_points' output back exactly", "[io][p
     for (const bool normals : {false, true}) {
       for (const bool colors : {false, true}) {
         INFO("format " << static_cast<int>(format) << " normals " << normals << " colours " << colors);
-        const nbs::PointCloud c = random_cloud(257, normals, colors, static_cast<unsigned>(++k));
+        const nbs::PointCloud c = nbs_test::random_cloud(257, normals, colors, static_cast<unsigned>(++k));
         const std::string path = (nbs_test::temp_dir() / ("cloud" + std::to_string(k) + ".ply")).string();
         nbs::write_ply_points(path, c.points, c.normals, c.colors, format);
         const nbs::PointCloud r = nbs::read_ply_points(path);
@@ -96,4 +89,25 @@ TEST_CASE("read_ply_points rejects malformed clouds naming file, record and valu
     CHECK_THROWS_AS(nbs::read_ply_points(path), nbs::FileError);
     CHECK_THROWS_WITH(nbs::read_ply_points(path), Contains(path) && Contains(b.message));
   }
+}
+
+TEST_CASE("load_point_cloud picks the reader by content; load_mesh names a cloud as a cloud", "[io][points]") {
+  const nbs::PointCloud c = nbs_test::random_cloud(20, true, false, 3);
+  const auto dir = nbs_test::temp_dir();
+  const std::string ply = (dir / "lpc.ply").string(), pcd = (dir / "lpc.pcd").string(),
+                    odd = (dir / "lpc_pcd_content.dat").string(), txt = (dir / "lpc.txt").string();
+  nbs::write_ply_points(ply, c.points, c.normals);
+  nbs::write_pcd(pcd, c);
+  std::filesystem::copy_file(pcd, odd, std::filesystem::copy_options::overwrite_existing);
+  for (const std::string& p : {ply, pcd, odd}) {
+    INFO(p);
+    const nbs::PointCloud r = nbs::load_point_cloud(p);
+    CHECK(r.points == c.points);
+    CHECK(r.normals == c.normals);
+  }
+  { std::ofstream(txt) << "1 2 3\n"; }
+  CHECK_THROWS_WITH(nbs::load_point_cloud(txt), Contains(txt) && Contains("unknown point-cloud format"));
+  // The issue's report: load_mesh on write_ply_points' output said only "mesh is empty".
+  CHECK_THROWS_WITH(nbs::load_mesh(ply),
+                    Contains(ply) && Contains("20 vertices and no faces: a point cloud, not a mesh"));
 }

@@ -3,6 +3,8 @@
 /// \file
 /// PointCloud: points with optional per-point normals and colours, as the point-cloud readers return them.
 
+#include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "nbs/core/error.hpp"
@@ -18,6 +20,8 @@ struct PointCloud {
   std::vector<Vec3> points;
   std::vector<Vec3> normals;  ///< empty, or one per point (as stored: not normalised)
   std::vector<Rgb> colors;    ///< empty, or one per point
+  std::optional<Pose> viewpoint;  ///< the sensor pose in the cloud's frame, when the file states one (PCD VIEWPOINT)
+  std::size_t dropped = 0;        ///< points the reader dropped as non-finite (only when asked to, PcdReadOptions)
 
   [[nodiscard]] std::size_t size() const { return points.size(); }
   [[nodiscard]] bool has_normals() const { return !normals.empty(); }

@@ -178,6 +178,10 @@ struct PlyContents {
 /// The same checks and errors as read_ply.
 [[nodiscard]] inline IndexedMesh read_ply_bytes(const std::string& path, const std::string& bytes) {
   io_detail::PlyContents c = io_detail::parse_ply(path, bytes);
+  if (c.triangles.empty() && !c.vertices.empty())
+    throw FileError(detail::concat(path, ": ", c.vertices.size(),
+                                   " vertices and no faces: a point cloud, not a mesh (read it with read_ply_points or "
+                                   "load_point_cloud)"));
   IndexedMesh mesh;
   mesh.vertices = std::move(c.vertices);
   mesh.triangles = std::move(c.triangles);
