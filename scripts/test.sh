@@ -4,8 +4,9 @@
 #   1. Release                           (build/test-release: every test, the examples and benchmarks)
 #   2. ASan + UBSan + float-cast-overflow (build/test-asan; every test — the examples are compiled in step 1)
 #   3. ThreadSanitizer                   (build/test-tsan; only the tests that run threads, tsan_tests below)
-# then builds a downstream project against the installed package (find_package(nbs)) and finally runs each
-# libFuzzer target for 20 s (scripts/fuzz.sh --quick, clang).
+# then checks the installed package (scripts/test-package.sh: relocatable, find_package COMPONENTS with every
+# adapter, errors for missing ones, pkg-config) and finally runs each libFuzzer target for 15 s
+# (scripts/fuzz.sh --quick, clang).
 # Prints CTest's summary for each configuration and "ALL TESTS PASSED" at the end; exits non-zero on failure.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -38,14 +39,9 @@ TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   run_config tsan "${tsan_tests[*]/#/test_}" "^($(IFS='|'; echo "${tsan_tests[*]}"))\$" \
   -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="$san_flags" -DNBS_SANITIZE_THREAD=ON -DNBS_BUILD_EXAMPLES=OFF
 
-echo "=== [downstream] install + find_package(nbs)"
-prefix=$root/build/test-install
-rm -rf "$prefix"
-cmake --install build/test-release --prefix "$prefix" >/dev/null
-cmake -S tests/downstream -B build/test-downstream -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build/test-downstream -j "$jobs"
-build/test-downstream/nbs_downstream
+echo "=== [package] install, relocate, find_package(nbs COMPONENTS ...), pkg-config"
+scripts/test-package.sh build/test-release "$jobs"
 
-echo "=== [fuzz] libFuzzer, 20 s per target (scripts/fuzz.sh --quick)"
+echo "=== [fuzz] libFuzzer, 15 s per target (scripts/fuzz.sh --quick)"
 scripts/fuzz.sh --quick --jobs "$jobs"
 echo "ALL TESTS PASSED"

@@ -3,9 +3,9 @@
 # OMPL's CMake config links Boost (serialization, filesystem, system) and ODE, installed by scripts/install-deps.sh.
 find_package(ompl QUIET)
 if(ompl_FOUND OR OMPL_FOUND)
+  include(${PROJECT_SOURCE_DIR}/cmake/nbsOmplTarget.cmake)  # ompl::ompl, also for the installed package
   nbs_add_adapter(ompl ompl)
-  target_include_directories(nbs_ompl SYSTEM INTERFACE ${OMPL_INCLUDE_DIRS})
-  target_link_libraries(nbs_ompl INTERFACE ${OMPL_LIBRARIES})
+  target_link_libraries(nbs_ompl INTERFACE ompl::ompl)
   message(STATUS "nbs: adapter nbs::ompl enabled (OMPL ${OMPL_VERSION})")
 else()
   message(STATUS "nbs: OMPL not found, nbs::ompl disabled")

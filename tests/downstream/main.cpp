@@ -1,14 +1,77 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Uses the installed headers: fails to compile or link if the package is broken.
+// Uses the installed headers and every adapter it was configured with: fails to compile, link or run (exit 1) if
+// the package is broken. Each adapter's check has a known answer.
+#include <cmath>
 #include <cstdio>
 
-#include "nbs/core.hpp"
+#include "nbs/nbs.hpp"  // the umbrella header: every core folder
+#ifdef NBS_DOWNSTREAM_HAS_EMBREE
+#include "nbs/embree/scene.hpp"
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_OCTOMAP
+#include "nbs/octomap/obstacle_model.hpp"
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_FCL
+#include "nbs/fcl/collision_checker.hpp"
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_OMPL
+#include <ompl/util/Console.h>
+
+#include "nbs/ompl/transfer_planner.hpp"
+#endif
+
+namespace {
+int failures = 0;
+void check(bool ok, const char* what) {
+  std::printf("nbs downstream %s: %s\n", what, ok ? "OK" : "FAILED");
+  failures += ok ? 0 : 1;
+}
+[[maybe_unused]] nbs::Pose at(double x, double y, double z) {
+  nbs::Pose p = nbs::Pose::Identity();
+  p.translation() = nbs::Vec3(x, y, z);
+  return p;
+}
+}  // namespace
 
 int main() {
   nbs::Parameters p;
   p.validate();
   const auto v = nbs::Viewpoint::look_at(nbs::Vec3(0.3, 0, 0.1), nbs::Vec3::Zero());
-  std::printf("nbs downstream OK: voxel %.3f m, view dir (%.2f %.2f %.2f)\n", p.voxel_size_m,
-              v.view_direction().x(), v.view_direction().y(), v.view_direction().z());
-  return 0;
+  check(std::abs(v.view_direction().x() + 0.9487) < 1e-3, "core (view direction of a look-at viewpoint)");
+  // The unknown area of a fresh space: every voxel has p = 0.5 > 0.05, so all of it is an obstacle.
+  [[maybe_unused]] const nbs::ProbabilisticVoxelSpace<> space(0.01, nbs::Aabb{nbs::Vec3(-0.05, -0.05, 0.0),
+                                                                               nbs::Vec3(0.05, 0.05, 0.1)});
+#ifdef NBS_DOWNSTREAM_HAS_EMBREE
+  nbs::IndexedMesh plane;
+  plane.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const nbs::embree::Scene scene(plane);
+  const auto hit = scene.first_hit({0.1, 0.2, 0.5}, -nbs::Vec3::UnitZ(), 1.0);
+  check(hit && std::abs(hit->distance - 0.5) < 1e-6, "embree (a ray 0.5 m above a plane)");
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_OCTOMAP
+  const auto tree = nbs::octomap::to_obstacle_octree(space, 0.05, 1'000'000);
+  check(tree->getNumLeafNodes() > 0 && tree->search(0.0, 0.0, 0.05) != nullptr,
+        "octomap (the unknown box is an obstacle octree)");
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_FCL
+  nbs::CollisionSetting cs;
+  cs.head.size_m = nbs::Vec3(0.02, 0.02, 0.02);
+  const nbs::fcl::FclCollisionChecker fcl_checker(space, cs);
+  check(fcl_checker.collides(at(0, 0, 0.05)) && !fcl_checker.collides(at(0, 0, 0.5)),
+        "fcl (a head inside the unknown box collides, one 0.4 m above it does not)");
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_OMPL
+  ::ompl::msg::setLogLevel(::ompl::msg::LOG_WARN);
+  struct Wall {  // x ∈ [−0.01, 0.01], z ≤ 0.3: the straight motion collides
+    [[nodiscard]] bool collides(const nbs::Pose& T) const {
+      return nbs::Aabb{nbs::Vec3(-0.01, -0.2, -1.0), nbs::Vec3(0.01, 0.2, 0.3)}.contains(T.translation());
+    }
+  };
+  nbs::ompl::TransferSetting ts;
+  ts.workspace = nbs::Aabb{nbs::Vec3(-0.4, -0.4, 0.0), nbs::Vec3(0.4, 0.4, 0.5)};
+  const auto path = nbs::ompl::plan_transfer(at(-0.2, 0, 0.1), at(0.2, 0, 0.1), Wall{}, ts);
+  check(path.solved && path.poses.size() >= 3, "ompl (RRT-Connect around a wall)");
+#endif
+  return failures == 0 ? 0 : 1;
 }
