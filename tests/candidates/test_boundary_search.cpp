@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Boundary Search (Secs. 4.2.2-4.3.2) against analytic scans: planes, a box and a sphere.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cmath>

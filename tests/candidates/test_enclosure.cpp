@@ -2,7 +2,7 @@
 // enclosed_by_surface (the enclosure test of the unseen_open ĉ_m) against analytic cases: a closed cubic shell of
 // occupied voxels encloses its centre; an opening on top or at a side frees it; an opening in the floor does not
 // (the test looks up and sideways only: below is the support); a point outside is free.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cmath>

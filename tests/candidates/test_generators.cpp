@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The CandidateGenerator concept and its models: sphere baseline, bad input, area sensors, determinism, the
 // planarity reading of Eqs. 4.19-4.21.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <limits>
@@ -175,7 +175,7 @@ TEST_CASE("boundary search: 1, 2 and 3 threads give the same candidates in the s
   }
   Context bad = scan.context();
   bad.threads = 0;
-  CHECK_THROWS_WITH(nbs::BoundarySearch{}.generate(bad), Catch::Contains("PlanningContext.threads") && Catch::Contains("0"));
+  CHECK_THROWS_WITH(nbs::BoundarySearch{}.generate(bad), nbs_test::Contains("PlanningContext.threads") && nbs_test::Contains("0"));
 }
 
 TEST_CASE("planarity of normals (Eqs. 4.19-4.21 as the text reads them)", "[generators]") {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Hole Rescan (Sec. 4.4, Alg. 2, Eqs. 4.22-4.23): the 20 % rule by hand, the direction pattern, a hole under an
 // occupied overhang (analytic free set), path geometry and combined paths.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 

@@ -2,7 +2,7 @@
 // Replanning for occlusions and collisions (Sec. 4.5.2, Alg. 3, Eq. 4.29) and the core collision checker.
 // Oracles: Eigen::AngleAxis for Eq. 4.29, analytic segment/box geometry for visibility, corner-projection SAT for
 // collisions (tests/fcl/box_oracle.hpp), brute force over the 81 rotations for the choice of Alg. 3.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <limits>

@@ -8,7 +8,7 @@
 //    area sensor, unless `area_paths_zero_length` is false), and its aim lies at d_s along s_z from the path line (ScanCandidate's invariant);
 //  - an invalid context (d_s outside the working range, NaN d_s, non-rigid last pose, zero FOV) throws
 //    InvalidArgument.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <limits>

@@ -8,7 +8,7 @@
 //  - it is const and may run concurrently: two threads over the same poses give the sequential answers;
 //  - a non-finite or non-rigid pose either gives an answer or throws InvalidArgument, nothing else;
 //  - collision_free_fraction over it is in [0, 1] and 1 exactly when every portion end is free.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <random>
 #include <thread>

@@ -5,7 +5,7 @@
 // contract every ĉ_m model keeps — a mesh without triangles gives 0; ĉ_m ∈ [0, 1]; deterministic, a copy gives the
 // same; a closed mesh (no border loop) gives 1 — for any model; the forms' values on an open box are checked by
 // test_coverage_estimator_conformance.cpp against the analytic areas.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include "nbs/coverage/coverage_estimator.hpp"
 

@@ -12,7 +12,7 @@
 //    `max_clockwise_share` of the faces whose vertices have normals (StreamingMesh normals come from noisy PCA);
 //  - KnowsFaceBorders: face(f) is the f-th face of for_each_face and border_mask(f) bit k ⇔ (t[k], t[k+1]) twinless;
 //  - ListsCurrentFaces: an edge is in_current_scan iff one of for_each_current_face's faces holds it.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <map>

@@ -8,7 +8,7 @@
 //    may pick either neighbour, or catch an edge the double-precision oracle just misses);
 //  - hits are at distance > 0 and ≤ max_distance: with max_distance just below the oracle's hit distance, no hit;
 //  - const calls may run concurrently: two threads get the sequential answers.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <optional>

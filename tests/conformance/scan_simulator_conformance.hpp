@@ -10,7 +10,7 @@
 //  - the sensor's frames: a LaserStripeProfiler's profiles are `profile_poses(path)` and each point lies in its
 //    profile's fan plane (s_x–s_z) within the fan; an AreaSensor's scan is one frame at path.start() with every
 //    point inside the field of view.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <functional>

@@ -6,7 +6,7 @@
 //  - it equals the oracle (the documented rule) everywhere on the grid;
 //  - with `monotone`, more progress never undoes "done": done(p) implies done(p') for p' ≥ p in n_s, ĉ_m and d̄_m
 //    (true of every criterion in the repo; the loop relies on it only through n_abort).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <functional>
 #include <vector>

@@ -2,7 +2,7 @@
 // The closed loop with an area sensor (issue 16): NbsPlanner<..., AreaSensor> through run_simulation with the
 // Embree scanner on a small analytic sphere on the pedestal. Lean: a 128 × 96 image, 5 mm voxels, four scans.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <vector>
 

@@ -4,7 +4,7 @@
 // Oracle: the analytic areas — A_filled = 5 s², one border loop of 4 edges with A_hole = s² (Eq. 4.37), so Eq. 4.35
 // gives 5/6; the unseen forms weight the loop by the share of its fan samples that are not seen (Sec. 4.5.1's
 // surface voxels, or walled in with the enclosure test).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -10,7 +10,7 @@
 //  - visits_first_only(t): feeding only the first visits (what the evaluator then does) changes nothing;
 //  - kNeedsRays = false: the value does not depend on the rays at all;
 //  - optionally, an oracle: the expected value of a stream.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cmath>

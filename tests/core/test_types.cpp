@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <limits>
@@ -21,11 +21,11 @@ TEST_CASE("validate_pose accepts rigid transforms and rejects everything else", 
 
   Pose scaled = p;
   scaled.linear() *= 1.01;
-  REQUIRE_THROWS_WITH(nbs::validate_pose(scaled), Catch::Contains("not orthonormal"));
+  REQUIRE_THROWS_WITH(nbs::validate_pose(scaled), nbs_test::Contains("not orthonormal"));
 
   Pose mirrored = Pose::Identity();
   mirrored.linear().col(2) *= -1.0;
-  REQUIRE_THROWS_WITH(nbs::validate_pose(mirrored), Catch::Contains("determinant"));
+  REQUIRE_THROWS_WITH(nbs::validate_pose(mirrored), nbs_test::Contains("determinant"));
 }
 
 TEST_CASE("Viewpoint::look_at builds the frame of Eq. 4.12", "[core]") {
@@ -60,5 +60,5 @@ TEST_CASE("Scan validate names the first broken invariant", "[core]") {
   REQUIRE_NOTHROW(s.validate());
   REQUIRE((s.line_of_sight(0) - Vec3::UnitZ()).norm() < 1e-15);
   s.add_point(Vec3(0, 0, 0.3), 3);
-  REQUIRE_THROWS_WITH(s.validate(), Catch::Contains("point 1") && Catch::Contains("profile 3"));
+  REQUIRE_THROWS_WITH(s.validate(), nbs_test::Contains("point 1") && nbs_test::Contains("profile 3"));
 }

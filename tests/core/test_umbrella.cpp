@@ -2,7 +2,7 @@
 // nbs/nbs.hpp on its own: it must compile stand-alone (this file includes nothing else) and give every folder.
 #include "nbs/nbs.hpp"
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 TEST_CASE("the umbrella header nbs/nbs.hpp gives a symbol of every folder", "[core][umbrella]") {
   const nbs::Pose pose = nbs::Pose::Identity();  // core

@@ -2,7 +2,7 @@
 // The streaming mesh on a real simulated stream: the bundled bunny scanned by the Embree scanner with the thesis LSP
 // noise (Eq. 4.39). Noise of about twice R_r used to make the gap closing fill the three-edge "loop" around the back
 // of a lone triangle, giving a two-face pillow (15 duplicate faces after the first scan, 43 after six).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <numbers>
 

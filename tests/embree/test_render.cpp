@@ -2,7 +2,7 @@
 // The headless renderer (nbs/embree/render.hpp). Oracles: analytic silhouettes of a sphere, hand-computed pixels.
 // The PNG encoder, colour map and JSON helpers it uses are tested in tests/io/test_png_json.cpp.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <random>
 #include <vector>
@@ -66,10 +66,10 @@ TEST_CASE("Embree scene: max distance, bad meshes, move semantics", "[embree][sc
   CHECK_THROWS_AS(nbs::embree::Scene(nbs::IndexedMesh{}), nbs::InvalidArgument);
   nbs::IndexedMesh bad = plane;
   bad.triangles.push_back({0, 1, 99});
-  CHECK_THROWS_WITH(nbs::embree::Scene(bad), Catch::Matchers::Contains("refers to vertex 99"));
+  CHECK_THROWS_WITH(nbs::embree::Scene(bad), nbs_test::Contains("refers to vertex 99"));
   bad = plane;
   bad.vertices[0].x() = 1e300;
-  CHECK_THROWS_WITH(nbs::embree::Scene(bad), Catch::Matchers::Contains("single precision"));
+  CHECK_THROWS_WITH(nbs::embree::Scene(bad), nbs_test::Contains("single precision"));
   std::vector<float> out(1);
   const std::vector<Vec3> two{Vec3::UnitZ(), Vec3::UnitZ()};
   CHECK_THROWS_AS(other.cast_fan(Vec3::Zero(), two, 1.0, out), nbs::InvalidArgument);

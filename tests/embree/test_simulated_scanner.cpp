@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 
@@ -7,7 +7,7 @@
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/sensor/presets.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 using nbs::Vec3;
 
 namespace {

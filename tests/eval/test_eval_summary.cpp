@@ -2,7 +2,7 @@
 // nbs_eval (issue 6): statistics against hand-computed values (type-7 quantiles, Eq. 4.41 notch, means), run
 // outcome and summary, config-file and CLI errors (before any work), and shards merged == the unsharded run.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include "eval/main.hpp"  // first: includes the planner headers
 
@@ -222,20 +222,20 @@ TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
     }
     return "";
   };
-  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), Catch::Contains("unknown config key 'voxel_size'"));
-  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), Catch::Contains("voxel_size_m"));  // lists the valid keys
-  CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), Catch::Contains("scan_overlap"));
-  CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), Catch::Contains("out-of-range"));
-  CHECK_THAT(error_of(R"({"max_scans": 0})"), Catch::Contains("max_scans"));
-  CHECK_THAT(error_of(R"({"max_scans": 2.5})"), Catch::Contains("'max_scans' must be an integer"));
-  CHECK_THAT(error_of(R"({"voxel_size_m": "small"})"), Catch::Contains("'voxel_size_m' must be a number"));
-  CHECK_THAT(error_of(R"({"sensor": "kinect"})"), Catch::Contains("unknown sensor preset 'kinect'"));
-  CHECK_THAT(error_of(R"({"sensor": "asus_xtion_pro"})"), Catch::Contains("area sensor"));
-  CHECK_THAT(error_of(R"({"mesh": "smooth"})"), Catch::Contains("'mesh' must be one of thesis | noise_robust"));
-  CHECK_THAT(error_of(R"({"coverage_estimate": 1})"), Catch::Contains("'coverage_estimate' must be a string"));
-  CHECK_THAT(error_of(R"({"keep_exploring": "no"})"), Catch::Contains("'keep_exploring' must be true or false"));
-  CHECK_THAT(error_of(R"([1, 2])"), Catch::Contains("JSON object"));
-  CHECK_THAT(error_of(R"({"voxel_size_m": )"), Catch::Contains("not valid JSON"));
+  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("unknown config key 'voxel_size'"));
+  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("voxel_size_m"));  // lists the valid keys
+  CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), nbs_test::Contains("scan_overlap"));
+  CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), nbs_test::Contains("out-of-range"));
+  CHECK_THAT(error_of(R"({"max_scans": 0})"), nbs_test::Contains("max_scans"));
+  CHECK_THAT(error_of(R"({"max_scans": 2.5})"), nbs_test::Contains("'max_scans' must be an integer"));
+  CHECK_THAT(error_of(R"({"voxel_size_m": "small"})"), nbs_test::Contains("'voxel_size_m' must be a number"));
+  CHECK_THAT(error_of(R"({"sensor": "kinect"})"), nbs_test::Contains("unknown sensor preset 'kinect'"));
+  CHECK_THAT(error_of(R"({"sensor": "asus_xtion_pro"})"), nbs_test::Contains("area sensor"));
+  CHECK_THAT(error_of(R"({"mesh": "smooth"})"), nbs_test::Contains("'mesh' must be one of thesis | noise_robust"));
+  CHECK_THAT(error_of(R"({"coverage_estimate": 1})"), nbs_test::Contains("'coverage_estimate' must be a string"));
+  CHECK_THAT(error_of(R"({"keep_exploring": "no"})"), nbs_test::Contains("'keep_exploring' must be true or false"));
+  CHECK_THAT(error_of(R"([1, 2])"), nbs_test::Contains("JSON object"));
+  CHECK_THAT(error_of(R"({"voxel_size_m": )"), nbs_test::Contains("not valid JSON"));
 }
 
 TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
@@ -247,7 +247,7 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
     const int rc = run_cli(args, log);
     INFO(log);
     CHECK(rc == 2);
-    CHECK_THAT(log, Catch::Contains(needle));
+    CHECK_THAT(log, nbs_test::Contains(needle));
     CHECK(!fs::exists(out));  // nothing written
   };
   rejected({"--mesh", bunny, "--out", out, "--methods", "C_H,X_Y"}, "unknown planning method 'X_Y'");
@@ -267,8 +267,8 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
   rejected({"--mesh", text.string(), "--out", out}, "error: mesh '" + text.string() + "': ");
   rejected({"--mesh", (tmp.path / "missing.ply").string(), "--out", out}, "missing.ply");
   CHECK(run_cli({"--help"}, log) == 0);
-  CHECK_THAT(log, Catch::Contains("--shard K/N"));
-  CHECK_THAT(log, Catch::Contains("VG_H"));
+  CHECK_THAT(log, nbs_test::Contains("--shard K/N"));
+  CHECK_THAT(log, nbs_test::Contains("VG_H"));
 }
 
 TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finished runs", "[eval][slow]") {
@@ -314,8 +314,8 @@ TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finishe
   // Interrupted run: a partial last line. The rerun keeps the finished lines, skips them and drops the fragment.
   { std::ofstream(full / "runs.jsonl", std::ios::app) << R"({"method":"C_H","run":1,"se)"; }
   REQUIRE(run_cli(with({"--threads", "2", "--out", full.string()}), log) == 0);
-  CHECK_THAT(log, Catch::Contains("2 finished runs found"));
-  CHECK_THAT(log, Catch::Contains("skipping unreadable line"));
+  CHECK_THAT(log, nbs_test::Contains("2 finished runs found"));
+  CHECK_THAT(log, nbs_test::Contains("skipping unreadable line"));
   const std::vector<Json> again = lines_of(full / "runs.jsonl");
   REQUIRE(again.size() == 2);
   CHECK(again[0] == a[0]);
@@ -324,5 +324,5 @@ TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finishe
   CHECK(run_cli({"--mesh", bunny, "--up", "y", "--size", "0.06", "--methods", "C_H", "--runs", "2", "--scans", "2",
                  "--seed", "7", "--out", full.string()},
                 log) == 2);
-  CHECK_THAT(log, Catch::Contains("different configuration"));
+  CHECK_THAT(log, nbs_test::Contains("different configuration"));
 }

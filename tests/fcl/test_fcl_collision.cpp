@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // FCL collision checker (adapters/fcl) against the core VoxelCollisionChecker and the corner-projection box oracle.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <limits>

@@ -3,7 +3,7 @@
 // (SpaceTrackingCollisionChecker). Oracle: the core VoxelCollisionChecker reads the live space, so after the loop
 // both must agree on poses whose head box is not near an obstacle boundary; before any update the FCL snapshot
 // of the all-unknown space calls every pose inside the box a collision.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <random>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <random>
 #include <set>
@@ -8,7 +8,7 @@
 #include "nbs/io/load_report.hpp"
 #include "temp_dir.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 
 namespace {
 

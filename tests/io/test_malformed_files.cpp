@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cstdint>
 #include <random>
@@ -7,7 +7,7 @@
 #include "nbs/io/load_mesh.hpp"
 #include "temp_dir.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 
 namespace {
 

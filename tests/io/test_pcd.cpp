@@ -3,7 +3,7 @@
 // PCL-style files built byte by byte (float fields, packed rgb, padding and extra fields, signed/unsigned integer
 // types), binary_compressed against an independent LZF compressor and a hand-made LZF stream, organised clouds
 // with NaN pixels, and malformed files rejected naming file, line or point and the value.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -19,7 +19,7 @@
 #include "random_cloud.hpp"
 #include "temp_dir.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 using nbs::Vec3;
 
 namespace {

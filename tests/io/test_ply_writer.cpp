@@ -2,7 +2,7 @@
 // PlyWriter (the one PLY writer) and write_candidates_ply. Oracles: the strict header parser of the reader, bytes
 // computed here, the ascii body parsed back with strtod.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cstdint>
 #include <cstdlib>
@@ -78,7 +78,7 @@ TEST_CASE("PlyWriter: a file is complete or not there", "[io][ply][writer][bad-i
     w.value(1.0);
     w.end_record();
     CHECK(std::filesystem::exists(path + ".tmp"));
-    CHECK_THROWS_WITH(w.finish(), Catch::Matchers::Contains("atomic.ply") && Catch::Matchers::Contains("1 records"));
+    CHECK_THROWS_WITH(w.finish(), nbs_test::Contains("atomic.ply") && nbs_test::Contains("1 records"));
   }
   CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
   CHECK(nbs::io_detail::read_file_bytes(path) == "old contents");
@@ -89,7 +89,7 @@ TEST_CASE("PlyWriter: a file is complete or not there", "[io][ply][writer][bad-i
   CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
   CHECK(nbs::io_detail::read_file_bytes(path) == "old contents");
   CHECK_THROWS_WITH(nbs::PlyWriter("/nonexistent-dir/x.ply"),
-                    Catch::Matchers::Contains("/nonexistent-dir/x.ply") && Catch::Matchers::Contains("cannot open"));
+                    nbs_test::Contains("/nonexistent-dir/x.ply") && nbs_test::Contains("cannot open"));
 }
 
 TEST_CASE("write_candidates_ply: vertices at the path ends, one coloured edge with its utility per path",

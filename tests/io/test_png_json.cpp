@@ -3,7 +3,7 @@
 // (json_format.hpp). Oracles: an independent bitwise CRC-32 and Adler-32, a stored-block deflate decoder written
 // here, hand-computed colours and strings.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // PLY point clouds: read_ply_points against write_ply_points (round trips in every format, with and without
 // normals and colours), a mesh file read as a cloud, and malformed clouds rejected with file, record and value.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -17,7 +17,7 @@
 #include "random_cloud.hpp"
 #include "temp_dir.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 using nbs::Vec3;
 
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <random>
 #include <sstream>
@@ -44,5 +44,5 @@ TEST_CASE("write_ply_points writes points, normals and colours", "[io][ply]") {
   const std::string bytes((std::istreambuf_iterator<char>(bin)), std::istreambuf_iterator<char>());
   CHECK(bytes.size() - (bytes.find("end_header\n") + 11) == 2 * (6 * 8 + 3));
   CHECK_THROWS_AS(nbs::write_ply_points(path, p, std::vector<nbs::Vec3>(1)), nbs::InvalidArgument);
-  CHECK_THROWS_WITH(nbs::write_ply_points("/nonexistent-dir/x.ply", p), Catch::Matchers::Contains("cannot open"));
+  CHECK_THROWS_WITH(nbs::write_ply_points("/nonexistent-dir/x.ply", p), nbs_test::Contains("cannot open"));
 }

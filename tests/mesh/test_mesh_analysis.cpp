@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -313,7 +313,7 @@ TEST_CASE("invariant checker detects broken meshes", "[mesh]") {
   static_assert(nbs::EdgeMesh<Broken>);
   const auto rep = nbs::check_invariants(Broken{}, 0.1);
   CHECK(!rep.ok());
-  CHECK_THAT(rep.problems, Catch::Contains("two faces"));
-  CHECK_THAT(rep.problems, Catch::Contains("apart"));
-  CHECK_THAT(rep.problems, Catch::Contains("never reported"));
+  CHECK_THAT(rep.problems, nbs_test::Contains("two faces"));
+  CHECK_THAT(rep.problems, nbs_test::Contains("apart"));
+  CHECK_THAT(rep.problems, nbs_test::Contains("never reported"));
 }

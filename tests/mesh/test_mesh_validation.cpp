@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // StreamingMesh input validation (issue 17): a scan, pose or point the mesh cannot take throws InvalidArgument naming
 // the index and the value, and changes nothing — the oracle is a twin mesh that never saw the bad input.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <functional>
@@ -94,7 +94,7 @@ TEST_CASE("StreamingMesh::integrate rejects a bad scan with its index and value 
       bad.spoil(scan);
       const Fingerprint before = fingerprint(m);
       REQUIRE_THROWS_AS(m.integrate(scan), nbs::InvalidArgument);
-      CHECK_THROWS_WITH(m.check_scan(scan), Catch::Contains(bad.message));
+      CHECK_THROWS_WITH(m.check_scan(scan), nbs_test::Contains(bad.message));
       CHECK(fingerprint(m) == before);
       // What follows is as if the bad scan had never come.
       const nbs::Scan next = plane_scan(0.008, 3);
@@ -114,22 +114,22 @@ TEST_CASE("StreamingMesh: an empty scan changes nothing; begin_scan and insert v
   CHECK(m.integrate(empty) == 0);
   CHECK(fingerprint(m) == before);
   empty.profile_poses[0].linear() *= 2.0;
-  CHECK_THROWS_WITH(m.integrate(empty), Catch::Contains("scan profile pose 0"));
+  CHECK_THROWS_WITH(m.integrate(empty), nbs_test::Contains("scan profile pose 0"));
 
   nbs::Pose sheared = nbs::Pose::Identity();
   sheared.linear()(0, 1) = 0.1;
-  CHECK_THROWS_WITH(m.begin_scan(sheared), Catch::Contains("begin_scan") && Catch::Contains("not orthonormal"));
+  CHECK_THROWS_WITH(m.begin_scan(sheared), nbs_test::Contains("begin_scan") && nbs_test::Contains("not orthonormal"));
   nbs::Pose nan_pose = nbs::Pose::Identity();
   nan_pose.translation().x() = kNan;
   CHECK_THROWS_AS(m.begin_scan(nan_pose), nbs::InvalidArgument);
 
   const Vec3 down(0, 0, -1), p(0.001, 0.002, 0.0);
-  CHECK_THROWS_WITH(m.insert(Vec3(kNan, 0, 0), down), Catch::Contains("not finite"));
+  CHECK_THROWS_WITH(m.insert(Vec3(kNan, 0, 0), down), nbs_test::Contains("not finite"));
   CHECK_THROWS_AS(m.insert(Vec3(0, kInf, 0), down), nbs::InvalidArgument);
-  CHECK_THROWS_WITH(m.insert(p, Vec3::Zero()), Catch::Contains("line of sight"));
+  CHECK_THROWS_WITH(m.insert(p, Vec3::Zero()), nbs_test::Contains("line of sight"));
   CHECK_THROWS_AS(m.insert(p, Vec3(kNan, 0, 1)), nbs::InvalidArgument);
   CHECK_THROWS_AS(m.insert(p, Vec3(1e-13, 0, 0)), nbs::InvalidArgument);
-  CHECK_THROWS_WITH(m.insert(Vec3(0, 0, -1e7), down), Catch::Contains("coordinate range"));
+  CHECK_THROWS_WITH(m.insert(Vec3(0, 0, -1e7), down), nbs_test::Contains("coordinate range"));
   CHECK(fingerprint(m) == before);
 }
 

@@ -3,7 +3,7 @@
 // brute-force reference that keeps no cache: every ball is a linear scan over all stored points. A pending vertex is
 // retried whenever its N_act reached 6 and grew by 2 since its last failed estimate, as documented; its kept ball
 // moments and cached balls must only save work, never change a verdict.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // detail::SpatialHash against brute force over every stored point: ball queries (completeness, documented order:
 // ascending cell_key, then insertion order), any_candidate and any_candidate_near_segment, with points on both sides
 // of zero so that cells cross block borders at negative coordinates.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The OctoMap backend: conformance suite, identical results to the native backend, OctoMap itself as oracle.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include "nbs/octomap/insert_scan.hpp"
 #include "nbs/octomap/obstacle_model.hpp"

@@ -2,7 +2,7 @@
 // Issue 3's cross-check on real data: the native log-odds space and OctoMap's own insertion classify >= 99.9 % of
 // voxels identically after the same LSP scans of the bundled bunny (Embree simulated scanner, DLR LSP with the
 // noise of Eq. 4.39, the 13 initial scan paths of Sec. 4.7.2 at 0.3 m).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <vector>
 

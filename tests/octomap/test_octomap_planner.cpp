@@ -2,7 +2,7 @@
 // The OctoMap space as a VoxelSpace: the conformance suite, and NbsPlanner run end to end with it. Oracle: the same
 // planner over the native hashed-block space with the same LogOddsModel (identical voxel states, see
 // test_octomap_backend.cpp) plans the same scans, step for step.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include "nbs/octomap/octree_backend.hpp"
 #include "nbs/planner/nbs_planner.hpp"

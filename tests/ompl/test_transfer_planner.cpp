@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // nbs::ompl: transfer motions between scan paths (Sec. 3.2.2) against a brute-force oracle — every straight motion
 // of the returned path is re-checked densely with the same collision checker — plus reproducibility and bad input.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 // determinism and the acceptance target ĉ_m ≥ 0.8 within n_abort = 30 scans (method C_H, Tab. 4.3).
 // Set NBS_PLANNER_VERBOSE=1 to print one line per scan.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cstdio>
 #include <cmath>

@@ -2,7 +2,7 @@
 // Core-only planner tests (no Embree): bad input and statuses, the runtime facade's codes, and the closed loop on an
 // analytic sphere standing on the pedestal (determinism over thread counts, termination, BS → HR switch).
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <set>
@@ -166,7 +166,7 @@ TEST_CASE("loop: a scanner that throws mid-run leaves the planner as after its l
   const nbs::test::SphereOnPedestal sphere;
   nbs::NbsPlanner<> p({}, light_lsp(), sphere_box()), twin({}, light_lsp(), sphere_box());
   const FailingScanner failing{&sphere, 3};
-  CHECK_THROWS_WITH(nbs::run_simulation(p, failing, loop_setting(5, 6)), Catch::Contains("device lost"));
+  CHECK_THROWS_WITH(nbs::run_simulation(p, failing, loop_setting(5, 6)), nbs_test::Contains("device lost"));
   const auto ran = nbs::run_simulation(twin, sphere, loop_setting(5, 2));
   REQUIRE(ran.records.size() == 2);
   (void)twin.next_best_scan();  // the failing run planned its third scan before the scanner threw

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include "nbs/sensor/presets.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 using nbs::Vec3;
 
 TEST_CASE("Area sensor corner rays lie half a pixel inside the FOV", "[sensor][area]") {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 
@@ -7,7 +7,7 @@
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sensor/range_noise.hpp"
 
-using Catch::Matchers::Contains;
+using nbs_test::Contains;
 
 TEST_CASE("Eq. 4.39 in SI units matches the millimetre polynomial evaluated by hand", "[sensor][noise]") {
   const auto n = nbs::RangeNoise::thesis_lsp();

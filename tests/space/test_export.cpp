@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // PLY export and surface-feature storage.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cstring>
 #include <filesystem>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // HashedBlockBackend flushing of cold blocks to disk: exact round trip (also after further updates and through const
 // access), failed writes leave the space unchanged and are reported, memory drops, LRU budget, folder clean-up.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <filesystem>
 #include <fstream>

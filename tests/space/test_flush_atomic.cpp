@@ -2,7 +2,7 @@
 // All-or-nothing integration with flushed blocks: a flushed block file that is truncated, corrupted or deleted makes
 // integrate throw FileError with the voxel states, totals and flush counters unchanged; a failed flush after a scan
 // is reported in BlockFlushStats and the scan still succeeds.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <sys/resource.h>
 

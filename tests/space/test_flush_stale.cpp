@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Flush folders of a killed process: the next backend's first flush removes them; a live owner's folder (in this
 // process or another) is never removed. POSIX only (fork + SIGKILL).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #if defined(__unix__)
 #include <signal.h>

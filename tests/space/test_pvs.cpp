@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // ProbabilisticVoxelSpace front end: log-odds model by hand, bounds, bad input, statistics.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <limits>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Planning ray casts: oracle = traverse_segment + first occupied voxel; parallel results equal serial ones.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <random>
 #include <stdexcept>

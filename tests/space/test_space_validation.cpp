@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The unknown area must fit the voxel key range at the chosen voxel size: it is rejected, never clipped silently
 // (a 1 nm voxel over a 12 cm box used to shrink the working area to ±1.05 mm without a word).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <string>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The thesis update model (Sec. 3.3.2, Eqs. 3.4–3.8) against hand-computed values.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <numbers>

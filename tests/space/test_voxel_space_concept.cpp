@@ -2,7 +2,7 @@
 // The VoxelSpace concept (nbs/space/concepts.hpp): its conformance suite on every space model in the core and on a
 // space written by a user in a few lines, example 05's MyVoxelSpace (the OctoMap space runs the same suite in
 // tests/octomap).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include "nbs/space/hashed_block_backend.hpp"
 #include "nbs/space/log_odds_model.hpp"

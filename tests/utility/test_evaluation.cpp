@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -511,7 +511,7 @@ TEST_CASE("coarse-to-fine: NaN is never re-scored or chosen; bad settings throw"
   const auto cands = ring_candidates(4);
   CHECK_THROWS_WITH(evaluate_candidates(cands, small_lsp(), space, VolumetricEntropy(),
                                         EvaluationSetting{1, RaySampling{}, CoarseToFine{0, 2}}),
-                    Catch::Contains("coarse_factor") && Catch::Contains("0"));
+                    nbs_test::Contains("coarse_factor") && nbs_test::Contains("0"));
   CHECK_THROWS_AS(evaluate_candidates(cands, small_lsp(), space, VolumetricEntropy(),
                                       EvaluationSetting{1, RaySampling{}, CoarseToFine{2, 0}}),
                   InvalidArgument);

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <set>
 #include <string>
@@ -23,7 +23,7 @@ TEST_CASE("selection codes round-trip and bad codes name the valid ones", "[util
   CHECK(parse_selection("rse") == Selection::rear_side_entropy);
   CHECK_THROWS_AS(parse_selection(""), InvalidArgument);
   CHECK_THROWS_AS(parse_selection("IGQ"), InvalidArgument);
-  CHECK_THROWS_WITH(parse_selection("X"), Catch::Contains("'X'") && Catch::Contains("R, I, Q, C, OA"));
+  CHECK_THROWS_WITH(parse_selection("X"), nbs_test::Contains("'X'") && nbs_test::Contains("R, I, Q, C, OA"));
 }
 
 TEST_CASE("evaluate_selection runs every criterion, matching the terms", "[utility][selection]") {

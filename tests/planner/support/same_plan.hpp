@@ -3,7 +3,7 @@
 // Two closed-loop results describe the same plan (the oracle of the determinism and backend-equivalence tests): at
 // every scan the same path (start pose, end position), the same number of measured points, the same ĉ_m, best
 // utility and number of evaluated candidates.
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cstddef>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One conformance suite for every VoxelBackend: run by tests/space (native) and tests/octomap (OcTree).
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <map>
 #include <tuple>

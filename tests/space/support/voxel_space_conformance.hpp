@@ -5,7 +5,7 @@
 // seen from x = −0.2 m along +x, so the voxels in front of the wall are free, the wall's voxels occupied, the rest
 // unknown, and a ray along +x visits exactly the keys from the box's first x key to the wall's key.
 
-#include <catch2/catch.hpp>
+#include "nbs_catch.hpp"
 
 #include <cmath>
 #include <concepts>

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
-/// PointKdTree: an owning 3D kd-tree (nanoflann 1.4) with nearest-neighbour and "any point within r" queries.
+/// PointKdTree: an owning 3D kd-tree (nanoflann 1.4 or >= 1.5) with nearest-neighbour and "any point within r"
+/// queries.
 
 #include <nanoflann.hpp>
 
@@ -14,6 +15,13 @@
 #include "nbs/core/types.hpp"
 
 namespace nbs::detail {
+
+// nanoflann 1.5 renamed SearchParams to SearchParameters (API break); the version macro tells which one this is.
+#if defined(NANOFLANN_VERSION) && NANOFLANN_VERSION >= 0x150
+using KdSearchParameters = nanoflann::SearchParameters;
+#else
+using KdSearchParameters = nanoflann::SearchParams;
+#endif
 
 /// Owns a copy of the points and a kd-tree over them. Distances are Euclidean, metres.
 /// Thread-safety: const queries may run concurrently; construction/move is not concurrent with queries.
@@ -34,7 +42,7 @@ public:
     if (size() == 0) return {0, dist2};
     nanoflann::KNNResultSet<double, std::uint32_t> result(1);
     result.init(&index, &dist2);
-    tree_->findNeighbors(result, q.data(), nanoflann::SearchParams());
+    tree_->findNeighbors(result, q.data(), KdSearchParameters());
     return {index, dist2};
   }
 
@@ -42,7 +50,7 @@ public:
   [[nodiscard]] bool any_within(const Vec3& q, double r) const {
     if (size() == 0) return false;
     AnyWithin result{&data_->points, q, r * r};
-    tree_->findNeighbors(result, q.data(), nanoflann::SearchParams());
+    tree_->findNeighbors(result, q.data(), KdSearchParameters());
     return result.found;
   }
 
@@ -51,7 +59,7 @@ public:
   void for_each_within(const Vec3& q, double r, F&& f) const {
     if (size() == 0) return;
     Collect<F> result{&data_->points, q, r * r, f};
-    tree_->findNeighbors(result, q.data(), nanoflann::SearchParams());
+    tree_->findNeighbors(result, q.data(), KdSearchParameters());
   }
 
 private:
