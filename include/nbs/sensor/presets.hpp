@@ -4,8 +4,14 @@
 /// Sensor presets: the thesis simulation sensor (Sec. 4.7, Eq. 4.39) and the sensors of Tab. 5.1.
 /// Numbers not given in the thesis are marked "assumption" with the reasoning.
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "nbs/core/error.hpp"
 
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
@@ -66,6 +72,34 @@ namespace detail {
           .vertical_fov_rad = detail::deg(44.3),
           .range = {0.2, 2.0},
           .noise = RangeNoise::quadratic(disparity_sigma_px / (focal_px * baseline_m))};
+}
+
+/// A preset of either sensor kind, as named in session files and on the command line.
+using AnySensor = std::variant<LaserStripeProfiler, AreaSensor>;
+
+/// The preset names `by_name` accepts, in this order: dlr_lsp, scancontrol_2700_100, asus_xtion_pro,
+/// guppy_pro_stereo.
+inline constexpr std::array<std::string_view, 4> kNames = {"dlr_lsp", "scancontrol_2700_100", "asus_xtion_pro",
+                                                           "guppy_pro_stereo"};
+
+/// The preset called `name` (exact, lower case). Throws InvalidArgument naming `name` and listing kNames otherwise.
+[[nodiscard]] inline AnySensor by_name(std::string_view name) {
+  if (name == kNames[0]) return dlr_lsp();
+  if (name == kNames[1]) return scancontrol_2700_100();
+  if (name == kNames[2]) return asus_xtion_pro();
+  if (name == kNames[3]) return guppy_pro_stereo();
+  std::string valid;
+  for (std::string_view n : kNames) (valid += valid.empty() ? "" : ", ") += n;
+  throw InvalidArgument(nbs::detail::concat("unknown sensor preset '", name, "'; valid names: ", valid));
+}
+
+/// The laser stripe profiler preset called `name`; throws InvalidArgument if `name` is unknown or an area sensor.
+[[nodiscard]] inline LaserStripeProfiler lsp_by_name(std::string_view name) {
+  AnySensor s = by_name(name);
+  if (auto* lsp = std::get_if<LaserStripeProfiler>(&s)) return *lsp;
+  throw InvalidArgument(nbs::detail::concat("sensor preset '", name,
+                                            "' is an area sensor; this needs a laser stripe profiler (dlr_lsp, "
+                                            "scancontrol_2700_100)"));
 }
 
 }  // namespace nbs::presets
