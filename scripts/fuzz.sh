@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Builds the libFuzzer targets of tests/fuzz with clang (ASan + UBSan incl. float-cast-overflow) and runs each one.
-# Usage: scripts/fuzz.sh [--quick] [--time S] [--runs N] [--target fuzz_ply|fuzz_obj|fuzz_pcd|fuzz_scan_ingestion] [--jobs J]
+# Usage: scripts/fuzz.sh [--quick] [--time S] [--runs N] [--target fuzz_ply|fuzz_obj|fuzz_pcd|fuzz_session|fuzz_scan_ingestion] [--jobs J]
 #   --quick   15 s per target (what scripts/test.sh runs)
 #   --time S  S seconds per target (default 300)
 #   --runs N  stop each target after N executions instead (e.g. 10000000 for a campaign)
@@ -12,7 +12,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-seconds=300 runs="" targets=(fuzz_ply fuzz_obj fuzz_pcd fuzz_scan_ingestion) jobs=${NBS_JOBS:-$(nproc)}
+seconds=300 runs="" targets=(fuzz_ply fuzz_obj fuzz_pcd fuzz_session fuzz_scan_ingestion) jobs=${NBS_JOBS:-$(nproc)}
 while (($#)); do
   case $1 in
     --quick) seconds=15 ;;

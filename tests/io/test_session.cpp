@@ -175,6 +175,9 @@ TEST_CASE("malformed sessions fail naming the file, the key or line and the valu
   const fs::path bad_json = one_scan_session("s8", kIdentity, kTwoPoints);
   write_text(bad_json / "session.json", "{\"format\": ");
   CHECK_THAT(fails(bad_json), Contains("session.json: not valid JSON"));
+  // Found by fuzz_session: nlohmann throws out_of_range (not parse_error) for a number beyond double.
+  write_text(bad_json / "session.json", "{\"format\": \"nbs-session\", \"version\": 1e3080}");
+  CHECK_THAT(fails(bad_json), Contains("not valid JSON") && Contains("number overflow parsing '1e3080'"));
   const fs::path missing = one_scan_session("s9", kIdentity, kTwoPoints);
   fs::remove(missing / "a.poses");
   CHECK_THAT(fails(missing), Contains("a.poses: the pose file of scan 0 is missing"));

@@ -107,7 +107,7 @@ namespace io_detail {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number like 1e400
     throw FileError(detail::concat(path, ": not valid JSON: ", e.what()));
   }
   const JsonWhere top{path, ""};
