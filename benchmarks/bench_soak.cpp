@@ -7,7 +7,8 @@
 //  (b) workspace stream (run first, so VmHWM is its own peak): a 4 × 4 × 2 m box at 5 mm, an area sensor (160 × 120 rays, 0.5–3.5 m) 1.6 m above the
 //      floor looking down, moved along a lawnmower sweep over a floor with boxes; block flushing on (idle 3 scans,
 //      into the system temp folder). RSS and flush counters along the way; `soak_workspace_peak_rss_mib: <value>`.
-// Usage: nbs_soak [--quick]   (--quick: 100 object scans and 40 workspace frames; full: 1000 and 800).
+// Usage: nbs_soak [--quick] [--workspace | --object]   (--quick: 100 object scans and 40 workspace frames; full: 1000
+// and 800; --workspace / --object: run only that part).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -194,11 +195,28 @@ double workspace_soak(int frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::string_view(argv[1]) == "--quick";
-  // The workspace stream first, so that its VmHWM is its own peak.
-  const double peak = workspace_soak(quick ? 40 : 800);
-  std::printf("soak_workspace_peak_rss_mib: %.1f\n", peak);
-  std::fflush(stdout);
+  bool quick = false, workspace = true, object = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a(argv[i]);
+    if (a == "--quick") quick = true;
+    else if (a == "--workspace") object = false;
+    else if (a == "--object") workspace = false;
+    else {
+      std::fprintf(stderr, "nbs_soak: unknown argument '%s' (usage: nbs_soak [--quick] [--workspace | --object])\n", argv[i]);
+      return 2;
+    }
+  }
+  if (!workspace && !object) {
+    std::fprintf(stderr, "nbs_soak: --workspace and --object exclude each other\n");
+    return 2;
+  }
+  if (workspace) {
+    // The workspace stream first, so that its VmHWM is its own peak.
+    const double peak = workspace_soak(quick ? 40 : 800);
+    std::printf("soak_workspace_peak_rss_mib: %.1f\n", peak);
+    std::fflush(stdout);
+  }
+  if (!object) return 0;
   const int scans = quick ? 100 : 1000;
   // The planner's default mesh (density limit along the line of sight, PlannerSetting::noise_robust_mesh) ...
   const double growth = object_soak<nbs::NoiseRobustStreamingMesh>(scans, "NoiseRobustStreamingMesh");

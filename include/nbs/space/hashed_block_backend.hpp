@@ -253,6 +253,8 @@ public:
   [[nodiscard]] std::size_t resident_block_count() const { return blocks_.size(); }
   /// Blocks on disk.
   [[nodiscard]] std::size_t flushed_block_count() const { return flushed_.size(); }
+  /// Whether block `id` (block_id()) is on disk.
+  [[nodiscard]] bool is_flushed(std::uint64_t id) const { return !flushed_.empty() && flushed_.contains(id); }
 
   /// Starts a new update epoch (one per scan) and returns it; a voxel whose block's touched bit is set was updated
   /// in this epoch. Epochs are 32-bit and start at 1.
