@@ -24,17 +24,20 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "nbs/core/parameters.hpp"
 #include "nbs/embree/render.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/color.hpp"
-#include "nbs/io/json_format.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/write_candidates_ply.hpp"
+#include "nbs/io/write_json.hpp"
 #include "nbs/io/write_ply.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/mesh/ply.hpp"
+#include "nbs/png/write_png.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/metrics.hpp"
 #include "nbs/space/export_ply.hpp"
@@ -183,7 +186,8 @@ void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const 
   if (chosen) segs.push_back({paths[*chosen].start().position(), paths[*chosen].end_position(), {0, 90, 255}, 3});
   nbs::embree::RenderSetting rs;
   rs.threads = threads;
-  nbs::embree::render(scene ? &*scene : nullptr, cam, segs, rs).write_png(path);
+  const nbs::embree::Image img = nbs::embree::render(scene ? &*scene : nullptr, cam, segs, rs);
+  nbs::png::write_png(path, img.width, img.height, img.rgb);
 }
 
 /// Ground truth of the model as it grows: c_a / c_b over the mesh vertices (points with a robust normal) and ē
@@ -419,40 +423,43 @@ int run(const Options& opt) {
   std::printf("time    %.1f s total (planning %.1f s, pictures %.1f s, c_obs %.1f s)\n", runtime, t_nbs_sum, t_render,
               obs_s);
 
-  // report.json
-  using nbs::json_number;
-  using nbs::json_string;
+  // report.json (keys in this order; integers stay integers, non-finite numbers are null)
   const auto series = [&](auto get) {
-    std::vector<double> v;
-    for (const Row& r : rows) v.push_back(static_cast<double>(get(r)));
-    return nbs::json_array(v);
+    nlohmann::ordered_json v = nlohmann::ordered_json::array();
+    for (const Row& r : rows) v.push_back(get(r));
+    return v;
   };
-  std::vector<std::string> modes;
-  for (const Row& r : rows) modes.push_back(r.mode);
-  std::ofstream js(file(opt, "report.json"));
-  js << "{\n  \"method\": " << json_string(code) << ",\n  \"seed\": " << opt.seed
-     << ",\n  \"mesh\": " << json_string(opt.mesh) << ",\n  \"size_m\": " << json_number(opt.size_m)
-     << ",\n  \"initial_path\": " << first << ",\n  \"series\": {\n"
-     << "    \"scan\": " << series([](const Row& r) { return r.scan; }) << ",\n"
-     << "    \"c_m\": " << series([](const Row& r) { return r.c_m; }) << ",\n"
-     << "    \"d_m\": " << series([](const Row& r) { return r.d_m; }) << ",\n"
-     << "    \"c_a\": " << series([](const Row& r) { return r.c_a; }) << ",\n"
-     << "    \"c_b\": " << series([](const Row& r) { return r.c_b; }) << ",\n"
-     << "    \"e_rms_m\": " << series([](const Row& r) { return r.e_m; }) << ",\n"
-     << "    \"l_s_m\": " << series([](const Row& r) { return r.l_s; }) << ",\n"
-     << "    \"t_nbs_s\": " << series([](const Row& r) { return r.t_nbs; }) << ",\n"
-     << "    \"candidates\": " << series([](const Row& r) { return r.candidates; }) << ",\n"
-     << "    \"utility\": " << series([](const Row& r) { return r.utility; }) << ",\n"
-     << "    \"points\": " << series([](const Row& r) { return r.points; }) << ",\n"
-     << "    \"mode\": " << nbs::json_array(modes) << "\n  },\n  \"final\": {\n"
-     << "    \"c_a\": " << json_number(fin.c_a) << ",\n    \"c_b\": " << json_number(fin.c_b)
-     << ",\n    \"c_obs\": " << json_number(obs.c_obs()) << ",\n    \"e_rms_m\": " << json_number(fin.e_m)
-     << ",\n    \"l_s_m\": " << json_number(fin.l_s) << ",\n    \"scans\": " << rows.size()
-     << ",\n    \"stop\": " << json_string(stop_name(stop)) << ",\n    \"mesh_vertices\": " << model.vertices.size()
-     << ",\n    \"mesh_triangles\": " << model.triangles.size() << ",\n    \"runtime_s\": " << json_number(runtime)
-     << "\n  }\n}\n";
-  js.close();
-  if (!js) throw FileError(file(opt, "report.json") + ": write failed");
+  nlohmann::ordered_json js;
+  js["method"] = code;
+  js["seed"] = opt.seed;
+  js["mesh"] = opt.mesh;
+  js["size_m"] = opt.size_m;
+  js["initial_path"] = first;
+  auto& se = js["series"];
+  se["scan"] = series([](const Row& r) { return r.scan; });
+  se["c_m"] = series([](const Row& r) { return r.c_m; });
+  se["d_m"] = series([](const Row& r) { return r.d_m; });
+  se["c_a"] = series([](const Row& r) { return r.c_a; });
+  se["c_b"] = series([](const Row& r) { return r.c_b; });
+  se["e_rms_m"] = series([](const Row& r) { return r.e_m; });
+  se["l_s_m"] = series([](const Row& r) { return r.l_s; });
+  se["t_nbs_s"] = series([](const Row& r) { return r.t_nbs; });
+  se["candidates"] = series([](const Row& r) { return r.candidates; });
+  se["utility"] = series([](const Row& r) { return r.utility; });
+  se["points"] = series([](const Row& r) { return r.points; });
+  se["mode"] = series([](const Row& r) { return r.mode; });
+  auto& fi = js["final"];
+  fi["c_a"] = fin.c_a;
+  fi["c_b"] = fin.c_b;
+  fi["c_obs"] = obs.c_obs();
+  fi["e_rms_m"] = fin.e_m;
+  fi["l_s_m"] = fin.l_s;
+  fi["scans"] = rows.size();
+  fi["stop"] = std::string(stop_name(stop));
+  fi["mesh_vertices"] = model.vertices.size();
+  fi["mesh_triangles"] = model.triangles.size();
+  fi["runtime_s"] = runtime;
+  nbs::write_json(file(opt, "report.json"), js);
   return 0;
 }
 

@@ -39,11 +39,9 @@
 #include "nbs/coverage/coverage_estimator.hpp"
 
 #include "nbs/io/color.hpp"
-#include "nbs/io/json_format.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/load_point_cloud.hpp"
 #include "nbs/io/ply_writer.hpp"
-#include "nbs/io/png.hpp"
 #include "nbs/io/point_cloud.hpp"
 #include "nbs/io/read_pcd.hpp"
 #include "nbs/io/read_obj.hpp"
@@ -53,6 +51,7 @@
 #include "nbs/io/session.hpp"
 #include "nbs/io/session_writer.hpp"
 #include "nbs/io/write_candidates_ply.hpp"
+#include "nbs/io/write_json.hpp"
 #include "nbs/io/write_pcd.hpp"
 #include "nbs/io/write_ply.hpp"
 

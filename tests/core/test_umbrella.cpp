@@ -7,7 +7,7 @@
 TEST_CASE("the umbrella header nbs/nbs.hpp gives a symbol of every folder", "[core][umbrella]") {
   const nbs::Pose pose = nbs::Pose::Identity();  // core
   CHECK(nbs::CandidateStatus::empty_mesh != nbs::CandidateStatus::no_holes);  // candidates
-  CHECK(nbs::json_number(0.5) == "0.5");  // io
+  CHECK(nbs::utility_color(1.0) == nbs::Rgb{0, 255, 0});  // io
   CHECK(nbs::IndexedMesh{}.vertices.empty());  // mesh
   CHECK(nbs::format_method(nbs::parse_method("C_H")) == "C_H");  // planner
   CHECK(nbs::presets::dlr_lsp().range.max_m > 0.0);  // sensor

@@ -19,6 +19,16 @@
 
 #include "nbs/ompl/transfer_planner.hpp"
 #endif
+#ifdef NBS_DOWNSTREAM_HAS_PNG
+#include <png.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "nbs/png/write_png.hpp"
+#endif
 
 namespace {
 int failures = 0;
@@ -72,6 +82,24 @@ int main() {
   ts.workspace = nbs::Aabb{nbs::Vec3(-0.4, -0.4, 0.0), nbs::Vec3(0.4, 0.4, 0.5)};
   const auto path = nbs::ompl::plan_transfer(at(-0.2, 0, 0.1), at(0.2, 0, 0.1), Wall{}, ts);
   check(path.solved && path.poses.size() >= 3, "ompl (RRT-Connect around a wall)");
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_PNG
+  {  // 3 x 2 RGBA written, then decoded by libpng itself
+    const std::vector<std::uint8_t> px{255, 0,   0,  255, 0,  255, 0,  128, 0,  0,  255, 0,
+                                       10,  20,  30, 40,  50, 60,  70, 80,  90, 100, 110, 120};
+    const std::string path = (std::filesystem::temp_directory_path() / "nbs_downstream.png").string();
+    nbs::png::write_png(path, 3, 2, px, nbs::png::PixelFormat::rgba);
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    std::vector<std::uint8_t> back;
+    if (png_image_begin_read_from_file(&image, path.c_str())) {
+      image.format = PNG_FORMAT_RGBA;
+      back.resize(PNG_IMAGE_SIZE(image));
+      if (!png_image_finish_read(&image, nullptr, back.data(), 0, nullptr)) back.clear();
+    }
+    std::filesystem::remove(path);
+    check(image.width == 3 && image.height == 2 && back == px, "png (a 3 x 2 RGBA image decodes to its pixels)");
+  }
 #endif
   return failures == 0 ? 0 : 1;
 }

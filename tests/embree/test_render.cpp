@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The headless renderer (nbs/embree/render.hpp). Oracles: analytic silhouettes of a sphere, hand-computed pixels.
-// The PNG encoder, colour map and JSON helpers it uses are tested in tests/io/test_png_json.cpp.
+// The colour map it uses is tested in tests/io/test_color_json.cpp, PNG files in tests/png/test_write_png.cpp.
 
 #include "nbs_catch.hpp"
 

@@ -15,6 +15,7 @@
 
 #include "nbs/io/ply_writer.hpp"
 #include "nbs/io/session.hpp"
+#include "nbs/io/write_json.hpp"
 
 namespace nbs {
 
@@ -107,7 +108,7 @@ private:
       if (e.path) s["path"] = {{"start", pose_json(e.path->start().pose())}, {"end", vec3_json(e.path->end_position())}};
       j["scans"].push_back(std::move(s));
     }
-    io_detail::write_file_atomic((dir_ / kSessionManifest).string(), j.dump(2) + "\n");
+    write_json((dir_ / kSessionManifest).string(), j);
   }
 
   std::filesystem::path dir_;

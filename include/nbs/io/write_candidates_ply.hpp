@@ -11,18 +11,19 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan_path.hpp"
 #include "nbs/io/color.hpp"
-#include "nbs/io/json_format.hpp"
 #include "nbs/io/ply_writer.hpp"
 
 namespace nbs {
 
 /// Writes `paths` with their `utility` (one value per path) to `path` as ascii PLY: vertices 2i (start) and 2i + 1
-/// (end) of path i with 9 significant digits, edge i with the utility in 17 digits (`null` if not finite, as in
-/// report.json). The file appears complete or not at all (PlyWriter). Throws InvalidArgument if the sizes differ,
-/// FileError if the file cannot be written.
+/// (end) of path i with 9 significant digits, edge i with the utility as nlohmann-json prints it (the shortest form
+/// that parses back exactly; `null` if not finite, as in report.json). The file appears complete or not at all
+/// (PlyWriter). Throws InvalidArgument if the sizes differ, FileError if the file cannot be written.
 inline void write_candidates_ply(const std::string& path, std::span<const LinearScanPath> paths,
                                  std::span<const double> utility) {
   detail::require(utility.size() == paths.size(), "write_candidates_ply: ", utility.size(), " utilities for ",
@@ -51,7 +52,7 @@ inline void write_candidates_ply(const std::string& path, std::span<const Linear
     w.value(static_cast<std::int32_t>(2 * i));
     w.value(static_cast<std::int32_t>(2 * i + 1));
     for (std::uint8_t v : c) w.value(v);
-    w.ascii_token(json_number(utility[i]));
+    w.ascii_token(nlohmann::json(utility[i]).dump());  // shortest exact form; null if not finite
     w.end_record();
   }
   w.finish();

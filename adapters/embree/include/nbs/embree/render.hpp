@@ -19,7 +19,6 @@
 #include "nbs/core/types.hpp"
 #include "nbs/embree/scene.hpp"
 #include "nbs/io/color.hpp"
-#include "nbs/io/png.hpp"
 
 namespace nbs::embree {
 
@@ -86,7 +85,8 @@ struct RenderSetting {
   }
 };
 
-/// A rendered picture: RGB bytes and per-pixel hit distance (metres along the ray; +inf = background).
+/// A rendered picture: RGB bytes and per-pixel hit distance (metres along the ray; +inf = background). Write it
+/// as a PNG file with nbs::png::write_png(path, width, height, rgb) (adapter nbs::png).
 struct Image {
   std::uint32_t width = 0, height = 0;
   std::vector<std::uint8_t> rgb;
@@ -94,7 +94,6 @@ struct Image {
   [[nodiscard]] std::size_t hit_count() const {
     return static_cast<std::size_t>(std::count_if(depth.begin(), depth.end(), [](float d) { return std::isfinite(d); }));
   }
-  void write_png(const std::filesystem::path& path) const { nbs::write_png(path, width, height, rgb); }
 };
 
 namespace render_detail {
