@@ -38,6 +38,11 @@
 
 #include "nbs/coverage/coverage_estimator.hpp"
 
+#include "nbs/driver/concepts.hpp"
+#include "nbs/driver/recording_driver.hpp"
+#include "nbs/driver/replay_driver.hpp"
+#include "nbs/driver/simulated_driver.hpp"
+
 #include "nbs/io/color.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/load_point_cloud.hpp"

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Conformance harness for nbs::ScanSimulator (include/nbs/planner/simulation_loop.hpp). For each given path (chosen
+// Conformance harness for nbs::ScanSimulator (include/nbs/driver/concepts.hpp). For each given path (chosen
 // so that the object is in view) the checked contract is:
 //  - the Scan passes Scan::validate, has points, and rays_cast ≥ points;
 //  - the same (path, sensor, seed) gives the identical Scan; another seed moves the points (if σ > 0);

@@ -1,30 +1,27 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
-/// The closed simulation loop of Sec. 4.7: a first scan along one of the 13 initial paths (Sec. 4.7.2, chosen by a
-/// seed), then plan → scan → integrate until the planner is done or n_abort scans were taken. Infinite robot
-/// workspace (Sec. 4.7): every planned path is executed as planned. Core-only: the scanner is any type with
-/// `scan(path, sensor, seed) -> Scan` (e.g. nbs::embree::SimulatedScanner, for a LaserStripeProfiler or an
-/// AreaSensor).
+/// The closed loop of Sec. 4.7: a first scan along one of the 13 initial paths (Sec. 4.7.2, chosen by a seed), then
+/// plan → scan → integrate until the planner is done or n_abort scans were taken. `run_loop` drives any
+/// `ScanDriver` (driver/concepts.hpp: real hardware, a replayed session, a simulation); `run_simulation` is
+/// `run_loop` with a `SimulatedDriver` over a `ScanSimulator` (e.g. nbs::embree::SimulatedScanner, for a
+/// LaserStripeProfiler or an AreaSensor): infinite robot workspace (Sec. 4.7), every planned path is executed as
+/// planned.
 
 #include <concepts>
 #include <cstdint>
 #include <optional>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "nbs/planner/planner_types.hpp"
 #include "nbs/core/detail/random.hpp"
+#include "nbs/driver/concepts.hpp"
+#include "nbs/driver/simulated_driver.hpp"
 #include "nbs/sensor/area_sensor.hpp"
 
 namespace nbs {
-
-/// A simulated (or real) scanner: executes a linear scan path with the sensor and returns the measured Scan
-/// (valid: `Scan::validate()` passes; world frame, metres). `seed` selects the noise; the same (path, sensor, seed)
-/// must give the same Scan. An area sensor takes one frame at `path.start()` (the utility evaluates it there).
-template <class S, class Sensor>
-concept ScanSimulator = requires(const S& s, const LinearScanPath& path, const Sensor& sensor, std::uint64_t seed) {
-  { s.scan(path, sensor, seed) } -> std::same_as<Scan>;
-};
 
 /// What the loop needs of a planner (NbsPlanner and RuntimePlanner model it).
 template <class P>
@@ -36,9 +33,9 @@ concept LoopPlanner = requires(P& p, const P& cp, const Scan& scan, std::uint64_
   cp.sensor();
 };
 
-/// Settings of run_simulation.
+/// Settings of run_loop and run_simulation.
 struct SimulationSetting {
-  std::uint64_t seed = 1;     ///< initial path (random_initial_scan_index(seed)) and per-scan sensor noise
+  std::uint64_t seed = 1;     ///< initial path (random_initial_scan_index(seed)); run_simulation: also the noise
   int max_scans = 30;         ///< n_abort (Tab. 4.3): hard limit, ≥ 1
   std::optional<int> initial_index;  ///< force one of the 13 initial paths instead of the seeded choice
 
@@ -90,16 +87,17 @@ template <class Sensor>
 }
 }  // namespace detail
 
-/// Runs the closed loop: stops when `planner.done()` (its termination criterion; for c_a(30) of Sec. 4.7.2 give
-/// the planner MaxScansReached as termination), after `max_scans` scans, or when no candidate is left. `on_scan(record)` is called after each scan is integrated (progress lines, ground-truth
-/// metrics). Scan i (0-based) uses sensor noise seed splitmix64(seed ^ (0x5CA9 + i)). With an AreaSensor each scan
-/// is one frame at the start of the planned path (`ScanRecord::path` is that single viewpoint, so l_s stays 0). Throws what the planner or
-/// the scanner throw (InvalidArgument for an invalid setting).
-template <LoopPlanner Planner, class Scanner, class Callback = NoScanCallback>
-  requires ScanSimulator<Scanner, std::remove_cvref_t<decltype(std::declval<const Planner&>().sensor())>> &&
-           std::invocable<Callback&, const ScanRecord&>
-SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const SimulationSetting& setting = {},
-                                Callback&& on_scan = {}) {
+/// Runs the closed loop with `driver`: for every path (the initial one, then each planned one, as
+/// detail::executed_scan_path gives it for the planner's sensor) `driver.move_to(path.start().pose())`, then
+/// `driver.acquire(path)`, then `planner.integrate`. Stops when `planner.done()` (its termination criterion; for
+/// c_a(30) of Sec. 4.7.2 give the planner MaxScansReached as termination), after `max_scans` scans, or when no
+/// candidate is left. `on_scan(record)` is called after each scan is integrated (progress lines, ground-truth
+/// metrics). Throws what the planner or the driver throw (InvalidArgument for an invalid setting); the planner then
+/// holds the scans integrated before.
+template <LoopPlanner Planner, ScanDriver Driver, class Callback = NoScanCallback>
+  requires std::invocable<Callback&, const ScanRecord&>
+SimulationResult run_loop(Planner& planner, Driver& driver, const SimulationSetting& setting = {},
+                          Callback&& on_scan = {}) {
   setting.validate();
   SimulationResult out;
   double total = 0.0;
@@ -112,8 +110,8 @@ SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const 
     rec.path = path;
     rec.candidate = std::move(cand);
     rec.initial_index = index;
-    const std::uint64_t seed = detail::splitmix64(setting.seed ^ (0x5CA9ULL + out.records.size()));
-    const Scan scan = scanner.scan(path, planner.sensor(), seed);
+    driver.move_to(path.start().pose());
+    const Scan scan = driver.acquire(path);
     rec.points = scan.size();
     rec.integration = planner.integrate(scan);
     rec.planning = plan;
@@ -141,5 +139,20 @@ SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const 
   }
   out.stop = planner.done() ? LoopStop::done : LoopStop::max_scans;
   return out;
+}
+
+/// run_loop with `SimulatedDriver(scanner, planner.sensor(), setting.seed)`: scan i (0-based) uses sensor noise seed
+/// splitmix64(seed ^ (0x5CA9 + i)). With an AreaSensor each scan is one frame at the start of the planned path
+/// (`ScanRecord::path` is that single viewpoint, so l_s stays 0). Throws what the planner or the scanner throw
+/// (InvalidArgument for an invalid setting).
+template <LoopPlanner Planner, class Scanner, class Callback = NoScanCallback>
+  requires ScanSimulator<Scanner, std::remove_cvref_t<decltype(std::declval<const Planner&>().sensor())>> &&
+           std::invocable<Callback&, const ScanRecord&>
+SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const SimulationSetting& setting = {},
+                                Callback&& on_scan = {}) {
+  setting.validate();
+  using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
+  SimulatedDriver<Scanner, Sensor> driver(scanner, planner.sensor(), setting.seed);
+  return run_loop(planner, driver, setting, std::forward<Callback>(on_scan));
 }
 }  // namespace nbs
