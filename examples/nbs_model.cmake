@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The main job (scripts/demo.sh): needs the Embree scanner.
-if(TARGET nbs::embree)
-  nbs_add_example(nbs_model SOURCES nbs_model.cpp LIBS nbs::embree)
+# The main job (scripts/demo.sh): needs the Embree scanner and the tools' shared options (CLI11, tools/).
+if(TARGET nbs::embree AND TARGET nbs_tool_options)
+  nbs_add_example(nbs_model SOURCES nbs_model.cpp LIBS nbs::embree nbs_tool_options)
 endif()

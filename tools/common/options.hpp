@@ -18,6 +18,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -32,9 +33,9 @@ namespace nbs::tools {
 /// Exit code for bad input (options, values, input files); 1 is left for failures while running.
 inline constexpr int kUsageExit = 2;
 
-/// `--up` default: z, nbs's world convention (the object stands on the pedestal z = 0) and the one most mesh and
-/// scan files share; the bundled bunny OBJ is y-up, so tools that default to it pass `--up y` with it explicitly.
-inline constexpr UpAxis kDefaultUp = UpAxis::z;
+/// `--up` default: y, the up axis of the bundled Stanford bunny OBJ, the default `--mesh` of every tool (and of the
+/// Stanford repository's meshes); z-up files (nbs's own PLY output, rocker-arm) pass `--up z`.
+inline constexpr UpAxis kDefaultUp = UpAxis::y;
 
 [[nodiscard]] inline std::string_view format_up(UpAxis up) { return up == UpAxis::x ? "x" : up == UpAxis::y ? "y" : "z"; }
 
@@ -60,7 +61,7 @@ inline CLI::Option* add_up(CLI::App& app, UpAxis& up) {
             else if (v == "z") up = UpAxis::z;
             else throw UsageError("--up", "expects x, y or z, got '" + v + "'");
           },
-          "axis of the mesh file that points up: x, y or z (default z)")
+          "axis of the mesh file that points up: x, y or z (default y, as in the bundled bunny)")
       ->type_name("AXIS");
 }
 
@@ -77,7 +78,7 @@ inline const CLI::Validator kPositive(
       if (used != s.size() || !(v > 0.0) || !std::isfinite(v)) return "expects a finite number > 0, got '" + s + "'";
       return {};
     },
-    "NUMBER > 0", "positive");
+    "", "positive");
 
 /// `--size M`: largest extent of the object after normalisation, metres (default Parameters::object_size_m).
 inline CLI::Option* add_size(CLI::App& app, double& size_m) {
@@ -102,7 +103,7 @@ inline CLI::Option* add_size(CLI::App& app, double& size_m) {
           return "expects an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + s + "'";
         return {};
       },
-      "INT", "integer_in");
+      "", "integer_in");
 }
 
 /// `--seed N`: seed of everything random in the tool (default 1).
@@ -131,8 +132,9 @@ inline CLI::Option* add_method(CLI::App& app, Method& method) {
 
 /// `--sensor NAME`: a laser stripe profiler preset (presets::lsp_by_name; default dlr_lsp).
 inline CLI::Option* add_sensor(CLI::App& app, std::string& name) {
-  std::string names;
-  for (std::string_view n : presets::kNames) (names += names.empty() ? "" : ", ") += n;
+  std::string names;  // the laser stripe profiler presets
+  for (std::string_view n : presets::kNames)
+    if (std::holds_alternative<LaserStripeProfiler>(presets::by_name(n))) (names += names.empty() ? "" : ", ") += n;
   return app
       .add_option_function<std::string>(
           "--sensor",
@@ -144,7 +146,7 @@ inline CLI::Option* add_sensor(CLI::App& app, std::string& name) {
             }
             name = v;
           },
-          "sensor preset, a laser stripe profiler (default dlr_lsp); presets: " + names)
+          "laser stripe profiler preset: " + names + " (default dlr_lsp)")
       ->type_name("NAME");
 }
 
@@ -189,7 +191,7 @@ namespace detail {
     if (key == "config" || opt == nullptr)
       throw UsageError("--config", path + ": unknown key '" + key + "' (keys are the tool's long options without --)");
     const std::string name = "--" + key;
-    if (opt->get_type_size() == 0) {  // a flag
+    if (opt->get_expected_max() == 0) {  // a flag
       if (!value.is_boolean()) throw UsageError("--config", path + ": '" + key + "' is a flag and needs true or false");
       if (value.get<bool>()) args.push_back(name);
       continue;
