@@ -200,8 +200,8 @@ void for_each_parameter(Parameters& p, F&& f) {
 struct Options {
   std::string mesh;
   double size_m = 0.16;
-  UpAxis up = UpAxis::z;
-  std::string up_name = "z";
+  UpAxis up = UpAxis::y;  // the default of every tool (tools/common/options.hpp kDefaultUp)
+  std::string up_name = "y";
   std::vector<Method> methods;
   int runs = 20;
   int scans = 30;
@@ -221,7 +221,7 @@ inline constexpr std::string_view kUsage =
     "options:\n"
     "  --mesh PATH       OBJ or PLY mesh of the object (required)\n"
     "  --size M          largest bounding-box extent after scaling, metres (default 0.16)\n"
-    "  --up x|y|z        axis of the file that points up (default z; the bundled bunny is y)\n"
+    "  --up x|y|z        axis of the file that points up (default y, as in the bundled bunny and every tool)\n"
     "  --methods LIST    comma-separated method codes (default C_H), or 'all' / 'thesis' (the 12 R,I,Q,C x S,B,H)\n"
     "  --runs N          runs per method, >= 1 (default 20)\n"
     "  --scans N         n_abort, scans per run (default: max_scans of the config, 30)\n"

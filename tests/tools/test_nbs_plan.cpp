@@ -149,6 +149,26 @@ TEST_CASE("nbs_plan replans a recorded session to the in-memory planner's next s
   }
 }
 
+TEST_CASE("nbs_plan on a session without scans gives the planner's first scan", "[tools][nbs_plan]") {
+  const fs::path dir = temp_root() / "empty";
+  if (!fs::exists(dir)) {
+    nbs::SessionInfo info;
+    info.unknown_area = kBox;
+    nbs::SessionWriter w(dir, info);
+  }
+  const Run r = run_plan(quoted(dir) + " --seed 5");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j.at("status") == "nothing_seen_yet");
+  CHECK(j.at("first_scan") == true);
+  CHECK(j.at("utility").is_null());
+  const nbs::RuntimePlanner twin(nbs::parse_method("C_H"), {}, nbs::presets::dlr_lsp(), kBox);
+  const nbs::LinearScanPath first = twin.first_scan(5);
+  CHECK((matrix_of(j.at("path").at("start").at("T_WS")).matrix() - first.start().pose().matrix()).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((matrix_of(j.at("path").at("end").at("T_WS")).matrix() - first.end().pose().matrix()).cwiseAbs().maxCoeff() < 1e-12);
+}
+
 TEST_CASE("nbs_plan: bad input exits 2 with a message and writes nothing", "[tools][nbs_plan]") {
   const fs::path dir = temp_root() / "bad_base";
   const nbs::test::SphereOnPedestal sphere;
