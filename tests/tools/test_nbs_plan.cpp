@@ -138,6 +138,19 @@ TEST_CASE("nbs_plan replans a recorded session to the in-memory planner's next s
   CHECK(((start_f * T_FS).matrix() - start.matrix()).cwiseAbs().maxCoeff() < 1e-9);
   CHECK(((end_f * T_FS).matrix() - end.matrix()).cwiseAbs().maxCoeff() < 1e-9);
 
+  SECTION("the session's hand-eye transform when there is no --hand-eye") {
+    const fs::path with_he = temp_root() / "session_hand_eye";
+    if (!fs::exists(with_he)) {
+      nbs::RecordedSession rec = nbs::read_session(dir);
+      rec.info.hand_eye = T_FS;
+      nbs::write_session(with_he, rec);
+    }
+    const Run h = run_plan(quoted(with_he) + " --threads 1");
+    INFO(h.err);
+    REQUIRE(h.code == 0);
+    const nlohmann::json jh = nlohmann::json::parse(h.out);
+    CHECK((matrix_of(jh.at("path").at("end").at("T_WF")).matrix() - end_f.matrix()).cwiseAbs().maxCoeff() < 1e-9);
+  }
   SECTION("--box instead of the session's box, same plan") {
     const Run b = run_plan(quoted(dir) + " --box=-0.06,-0.06,0,0.06,0.06,0.1");
     INFO(b.err);
