@@ -6,8 +6,8 @@
 /// `--help` prints and exits 0; a bad option or value prints `<tool>: <message naming option and value>` and the
 /// hint to `--help` on stderr and exits 2 (kUsageExit); `--config FILE` reads a JSON object whose keys are long
 /// option names without `--` (`{"size": 0.2, "up": "z", "no-images": true}`), the command line wins over the file.
-/// Used by nbs_plan, nbs_model and nbs_diagnose; nbs_eval still has its own parser (its `--config` is a planner
-/// configuration, benchmarks/eval/config.hpp) and shares only the `--up` default.
+/// Used by nbs_plan, nbs_model, nbs_diagnose and nbs_eval (whose `--config` is a planner configuration, not these
+/// options: benchmarks/eval/config.hpp; it takes `--methods LIST`, not `--method`).
 
 #include <CLI/CLI.hpp>
 
