@@ -7,8 +7,10 @@
 // With --oracle the planner picks the candidate of largest true gain (an upper bound for the selection given the
 // generated candidates). A research tool, not part of the headline benchmarks.
 //
-// usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] [--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG]
-//                     [--sampling P,R] [--threads N] [--hmax N] [--thesis-mesh]
+// usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--method CODE] [--sensor NAME] [--scans N]
+//                     [--search S|B|H] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG] [--oracle] [--sampling P,R]
+//                     [--threads N] [--hmax N] [--thesis-mesh] [--config FILE]   (`--help`; options shared with the
+// other tools: tools/common/options.hpp; a bad value prints the option and the value and exits 2)
 // The planner's defaults: noise-robust mesh, unseen_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
 // (RuntimeModels::thesis).
 // Environment: NBS_DIAG_FEATURES=1 prints per step the number of voxels with surface features and their mean b_i, d̄_i
@@ -39,18 +41,20 @@
 #include "nbs/sim/detail/point_kd_tree.hpp"
 #include "nbs/sim/ground_truth.hpp"
 
+#include "common/options.hpp"
+
 namespace {
 
 struct Options {
   std::string mesh = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
-  nbs::UpAxis up = nbs::UpAxis::y;
+  nbs::UpAxis up = nbs::tools::kDefaultUp;
   double size_m = 0.16;
   std::uint64_t seed = 1;
   int scans = 12;
-  char search = 'H';
+  nbs::Method method{};  // --method, or --selection and --search one by one
+  std::string sensor = "dlr_lsp";
   bool oracle = false;
   bool thesis_mesh = false;  // the thesis's mesh and ĉ_m instead of the planner's defaults
-  std::string selection = "C";
   nbs::RaySampling sampling{4, 4};
   unsigned threads = 2;
   int hole_max_edges = 0;  // 0: Parameters default
@@ -334,7 +338,7 @@ int run(const Options& opt) {
   sh.covered.assign(truth.samples().size(), 0);
   sh.radius_m = params.completeness_radius_m;
   sh.oracle = opt.oracle;
-  sh.selection = parse_selection(opt.selection);
+  sh.selection = opt.method.selection;
   sh.threads = opt.threads;
   g_shared = &sh;
   PlannerSetting ps;
@@ -344,7 +348,7 @@ int run(const Options& opt) {
   const RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
   NbsPlanner<DiagnosticUtility, Search, LaserStripeProfiler, NoCollisions, MaxScansReached, ProbabilisticVoxelSpace<>,
              Mesh, SelectableCoverage>
-      planner(params, presets::dlr_lsp(), unknown, ps, models.mesh_settings(params, unknown));
+      planner(params, presets::lsp_by_name(opt.sensor), unknown, ps, models.mesh_settings(params, unknown));
   planner.coverage.setting.form = models.coverage_estimate;
   planner.termination = MaxScansReached(opt.scans);
   CoverageTracker cov = truth.tracker();
@@ -391,39 +395,63 @@ int run(const Options& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace tools = nbs::tools;
   Options opt;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "nbs_diagnose: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--mesh") opt.mesh = next();
-    else if (a == "--up") { const std::string u = next(); opt.up = u == "x" ? nbs::UpAxis::x : u == "z" ? nbs::UpAxis::z : nbs::UpAxis::y; }
-    else if (a == "--size") opt.size_m = std::stod(next());
-    else if (a == "--seed") opt.seed = std::stoull(next());
-    else if (a == "--scans") opt.scans = std::stoi(next());
-    else if (a == "--search") opt.search = next().at(0);
-    else if (a == "--oracle") opt.oracle = true;
-    else if (a == "--hmax") opt.hole_max_edges = std::stoi(next());
-    else if (a == "--thesis-mesh") opt.thesis_mesh = true;
-    else if (a == "--selection") opt.selection = next();
-    else if (a == "--threads") opt.threads = static_cast<unsigned>(std::stoul(next()));
-    else if (a == "--sampling") {
-      const std::string s = next();
-      const auto comma = s.find(',');
-      opt.sampling = {std::stoul(s.substr(0, comma)), std::stoul(s.substr(comma + 1))};
-    } else {
-      std::fprintf(stderr, "usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--scans N] "
-                           "[--search S|B|H] [--oracle] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG] [--sampling P,R] [--threads N] "
-                           "[--hmax N] [--thesis-mesh]\n");
-      return a == "--help" ? 0 : 2;
-    }
+  CLI::App app("nbs_diagnose: the true gain of every candidate next to its utility, step by step", "nbs_diagnose");
+  tools::set_conventions(app);
+  tools::add_mesh(app, opt.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
+  tools::add_up(app, opt.up);
+  tools::add_size(app, opt.size_m);
+  tools::add_seed(app, opt.seed);
+  tools::add_method(app, opt.method);
+  tools::add_sensor(app, opt.sensor);
+  app.add_option("--scans", opt.scans, "scans to take")->check(tools::integer_in(1, 1000))->capture_default_str();
+  app.add_option_function<std::string>(
+         "--search",
+         [&opt](const std::string& v) {
+           if (v == "S") opt.method.search = nbs::SearchSpace::sphere;
+           else if (v == "B") opt.method.search = nbs::SearchSpace::boundary;
+           else if (v == "H") opt.method.search = nbs::SearchSpace::boundary_hole;
+           else throw tools::UsageError("--search", "expects S, B or H, got '" + v + "'");
+         },
+         "search space alone (any selection): S, B or H")
+      ->type_name("S|B|H");
+  app.add_option_function<std::string>(
+         "--selection",
+         [&opt](const std::string& v) {
+           try {
+             opt.method.selection = nbs::parse_selection(v);
+           } catch (const nbs::InvalidArgument& e) {
+             throw tools::UsageError("--selection", e.what());
+           }
+         },
+         "selection criterion alone (any search space): R I Q C OA UV RSV RSE PC AE VG")
+      ->type_name("CODE");
+  app.add_flag("--oracle", opt.oracle, "pick the candidate of largest true gain");
+  app.add_option_function<std::string>(
+         "--sampling",
+         [&opt](const std::string& v) {
+           const auto comma = v.find(',');
+           std::string p = v.substr(0, comma), r = comma == std::string::npos ? "" : v.substr(comma + 1);
+           if (comma == std::string::npos || !tools::integer_in(1, 1u << 20)(p).empty() ||
+               !tools::integer_in(1, 1u << 20)(r).empty())
+             throw tools::UsageError("--sampling", "expects P,R (profile and ray strides, integers >= 1), got '" + v + "'");
+           opt.sampling = {std::stoul(p), std::stoul(r)};
+         },
+         "utility evaluation strides: every P-th profile, every R-th ray (default 4,4)")
+      ->type_name("P,R");
+  app.add_option("--threads", opt.threads, "threads")->check(tools::integer_in(1, 1024))->capture_default_str();
+  app.add_option("--hmax", opt.hole_max_edges, "Parameters::hole_max_edges (default: Parameters')")
+      ->check(tools::integer_in(1, 1000000));
+  app.add_flag("--thesis-mesh", opt.thesis_mesh, "the thesis's mesh and ĉ_m (RuntimeModels::thesis)");
+  tools::add_config(app);
+  if (const auto code = tools::parse(app, argc, argv)) return *code;
+  try {
+    if (opt.method.search == nbs::SearchSpace::sphere) return run<nbs::SphereSpace, nbs::StreamingMesh>(opt);
+    if (opt.method.search == nbs::SearchSpace::boundary) return run<nbs::BoundarySpace, nbs::StreamingMesh>(opt);
+    return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);
+  } catch (const nbs::Error& e) {  // the mesh file or its normalisation
+    std::fprintf(stderr, "nbs_diagnose: %s\n", e.what());
+    return tools::kUsageExit;
   }
-  if (opt.search == 'S') return run<nbs::SphereSpace, nbs::StreamingMesh>(opt);
-  if (opt.search == 'B') return run<nbs::BoundarySpace, nbs::StreamingMesh>(opt);
-  return run<nbs::BoundaryHoleSpace, nbs::StreamingMesh>(opt);
 }

@@ -4,8 +4,9 @@ if(TARGET nbs::embree)
   nbs_add_benchmark(planner SOURCES ${CMAKE_CURRENT_LIST_DIR}/bench_planner.cpp LIBS nbs::embree)
 endif()
 # nbs_diagnose: research tool (not run by scripts/bench.sh) — true gain of every candidate vs its utility.
-if(TARGET nbs::embree AND NOT TARGET nbs_diagnose)
+# Its options: tools/common/options.hpp (CLI11).
+if(TARGET nbs::embree AND TARGET nbs_tool_options AND NOT TARGET nbs_diagnose)
   add_executable(nbs_diagnose ${CMAKE_CURRENT_LIST_DIR}/nbs_diagnose.cpp)
-  target_link_libraries(nbs_diagnose PRIVATE nbs::nbs nbs::embree nbs_project_options)
+  target_link_libraries(nbs_diagnose PRIVATE nbs::nbs nbs::embree nbs_tool_options)
   target_compile_definitions(nbs_diagnose PRIVATE NBS_DATA_DIR="${PROJECT_SOURCE_DIR}/data")
 endif()

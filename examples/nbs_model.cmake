@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The main job (scripts/demo.sh): needs the Embree scanner and libpng for its pictures.
-if(TARGET nbs::embree AND TARGET nbs::png)
-  nbs_add_example(nbs_model SOURCES nbs_model.cpp LIBS nbs::embree nbs::png)
+# The main job (scripts/demo.sh): needs the Embree scanner, libpng for its pictures and the tools' shared options
+# (CLI11, tools/).
+if(TARGET nbs::embree AND TARGET nbs::png AND TARGET nbs_tool_options)
+  nbs_add_example(nbs_model SOURCES nbs_model.cpp LIBS nbs::embree nbs::png nbs_tool_options)
 endif()

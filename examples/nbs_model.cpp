@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // nbs_model — the main job: simulated autonomous modeling of the bundled Stanford bunny (or --mesh) with the
 // Next-Best-Scan planner (default IG+Quality with Boundary Search + Hole Rescan, method C_H, Sec. 4.7). A first
-// scan along one of the 13 initial paths (Sec. 4.7.2, chosen by --seed), then plan → scan (Embree simulated DLR
-// laser stripe profiler) → integrate until the planner is done or n_abort scans were taken. Prints one line per
-// scan with the planner's estimates and the true c_a; writes mesh, voxel space, candidates (per iteration, PLY line
-// segments coloured red → green by utility, Fig. 4.16), PNG pictures and report.json. Run `nbs_model --help`.
+// scan along one of the 13 initial paths (Sec. 4.7.2, chosen by --seed), then plan → scan (Embree simulated laser
+// stripe profiler, --sensor, default the DLR LSP) → integrate until the planner is done or n_abort scans were
+// taken. Prints one line per scan with the planner's estimates and the true c_a; writes mesh, voxel space,
+// candidates (per iteration, PLY line segments coloured red → green by utility, Fig. 4.16), PNG pictures and
+// report.json. Run `nbs_model --help`; the options shared with the other tools are in tools/common/options.hpp.
 
 // Planner headers first (see nbs/planner/detail/components.hpp).
 #include "nbs/planner/runtime_planner.hpp"
@@ -42,33 +43,17 @@
 #include "nbs/sim/metrics.hpp"
 #include "nbs/space/export_ply.hpp"
 
-namespace {
+#include "common/options.hpp"
 
-constexpr const char* kUsage =
-    "usage: nbs_model [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--method CODE] [--scans N] [--threads N]\n"
-    "                 [--out DIR] [--no-images] [--initial-only] [--thesis-mesh]\n"
-    "  --mesh PATH     ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)\n"
-    "  --up AXIS       axis of the mesh file that points up (default y, as in the bunny OBJ)\n"
-    "  --size M        largest extent of the object after normalisation, metres, > 0 (default 0.16)\n"
-    "  --seed N        seed of the first scan path, sensor noise and ground-truth samples (default 1)\n"
-    "  --method CODE   planning method (default C_H = IG+Quality, Boundary Search + Hole Rescan); codes:\n"
-    "                  R|I|Q|C _ S|B|H (Fig. 4.19) and OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H\n"
-    "  --scans N       n_abort, hard limit on the number of scans, >= 1 (default 30, Tab. 4.3)\n"
-    "  --threads N     candidate evaluation threads, >= 1 (default: hardware threads); results do not depend on it\n"
-    "  --out DIR       output directory, created if missing (default out)\n"
-    "  --no-images     do not write the PNG pictures\n"
-    "  --initial-only  no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply\n"
-    "  --thesis-mesh   the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the\n"
-    "                  noise-robust mesh and the unseen_open estimate\n"
-    "The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
-    "DIR/view_NN.png, DIR/final.png and DIR/report.json.\n";
+namespace {
 
 struct Options {
   std::string mesh = std::string(NBS_DATA_DIR) + "/meshes/stanford-bunny.obj";
-  nbs::UpAxis up = nbs::UpAxis::y;
+  nbs::UpAxis up = nbs::tools::kDefaultUp;
   double size_m = nbs::Parameters{}.object_size_m;
   std::uint64_t seed = 1;
   nbs::Method method{};
+  std::string sensor = "dlr_lsp";
   int scans = nbs::Parameters{}.max_scans;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   std::string out = "out";
@@ -77,88 +62,31 @@ struct Options {
   bool thesis_mesh = false;
 };
 
-struct UsageError {
-  std::string message;
-};
-
-double parse_double(std::string_view name, const std::string& s) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || !(v > 0.0) || !std::isfinite(v))
-    throw UsageError{std::string(name) + " expects a finite number > 0, got '" + s + "'"};
-  return v;
-}
-
-std::uint64_t parse_unsigned(std::string_view name, const std::string& s, std::uint64_t min, std::uint64_t max) {
-  std::size_t used = 0;
-  unsigned long long v = 0;
-  try {
-    if (!s.empty() && s[0] != '-' && s[0] != '+') v = std::stoull(s, &used, 10);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (s.empty() || used != s.size() || v < min || v > max)
-    throw UsageError{std::string(name) + " expects an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
-                     "], got '" + s + "'"};
-  return v;
-}
-
-/// Returns std::nullopt when --help was given.
-std::optional<Options> parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") return std::nullopt;
-    if (arg == "--no-images") {
-      o.images = false;
-      continue;
-    }
-    if (arg == "--initial-only") {
-      o.initial_only = true;
-      continue;
-    }
-    if (arg == "--thesis-mesh") {
-      o.thesis_mesh = true;
-      continue;
-    }
-    if (arg.rfind("--", 0) != 0) throw UsageError{"unexpected argument '" + arg + "'"};
-    if (i + 1 >= argc || std::string_view(argv[i + 1]).rfind("--", 0) == 0)
-      throw UsageError{"option '" + arg + "' expects a value"};
-    const std::string value = argv[++i];
-    if (arg == "--mesh") {
-      o.mesh = value;
-    } else if (arg == "--up") {
-      if (value == "x") o.up = nbs::UpAxis::x;
-      else if (value == "y") o.up = nbs::UpAxis::y;
-      else if (value == "z") o.up = nbs::UpAxis::z;
-      else throw UsageError{"--up expects x, y or z, got '" + value + "'"};
-    } else if (arg == "--size") {
-      o.size_m = parse_double("--size", value);
-    } else if (arg == "--seed") {
-      o.seed = parse_unsigned("--seed", value, 0, ~0ULL);
-    } else if (arg == "--method") {
-      try {
-        o.method = nbs::parse_method(value);
-      } catch (const nbs::InvalidArgument& e) {
-        throw UsageError{std::string("--method: ") + e.what()};
-      }
-    } else if (arg == "--scans") {
-      o.scans = static_cast<int>(parse_unsigned("--scans", value, 1, 1000));
-    } else if (arg == "--threads") {
-      o.threads = static_cast<unsigned>(parse_unsigned("--threads", value, 1, 1024));
-    } else if (arg == "--out") {
-      if (value.empty()) throw UsageError{"--out expects a directory"};
-      o.out = value;
-    } else {
-      throw UsageError{"unknown option '" + arg + "'"};
-    }
-  }
-  return o;
+/// The command line (tools/common/options.hpp: the shared options, --help, exit 2 on a bad value).
+void add_options(CLI::App& app, Options& o) {
+  namespace tools = nbs::tools;
+  tools::set_conventions(app);
+  tools::add_mesh(app, o.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
+  tools::add_up(app, o.up);
+  tools::add_size(app, o.size_m);
+  tools::add_seed(app, o.seed);
+  tools::add_method(app, o.method);
+  tools::add_sensor(app, o.sensor);
+  app.add_option("--scans", o.scans, "n_abort, hard limit on the number of scans (Tab. 4.3)")
+      ->check(tools::integer_in(1, 1000))
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "candidate evaluation threads (default: hardware threads); same results")
+      ->check(tools::integer_in(1, 1024));
+  tools::add_out(app, o.out);
+  app.add_flag_callback("--no-images", [&o] { o.images = false; }, "do not write the PNG pictures");
+  app.add_flag("--initial-only", o.initial_only,
+               "no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply");
+  app.add_flag("--thesis-mesh", o.thesis_mesh,
+               "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust mesh "
+               "and the unseen_open estimate");
+  tools::add_config(app);
+  app.footer("The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
+             "DIR/view_NN.png, DIR/final.png and DIR/report.json.");
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -241,7 +169,7 @@ int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs
   using namespace nbs;
   const auto t0 = std::chrono::steady_clock::now();
   const Parameters params;
-  const LaserStripeProfiler lsp = presets::dlr_lsp();
+  const LaserStripeProfiler lsp = presets::lsp_by_name(opt.sensor);
   const double standoff_m = 0.5 * (lsp.range.min_m + lsp.range.max_m);
   const std::vector<LinearScanPath> paths = initial_scan_paths(mesh.bounds(), standoff_m);
   CoverageTracker coverage = truth.tracker();
@@ -280,13 +208,13 @@ int run(const Options& opt) {
     mesh = load_mesh(opt.mesh);
     normalize_on_pedestal(mesh, opt.size_m, opt.up);
   } catch (const Error& e) {  // a bad --mesh is a usage error
-    std::cerr << "nbs_model: " << e.what() << "\n" << kUsage;
-    return 2;
+    std::cerr << "nbs_model: --mesh: " << e.what() << "\n";
+    return tools::kUsageExit;
   }
   std::filesystem::create_directories(opt.out);
   Parameters params;
   params.max_scans = opt.scans;
-  const LaserStripeProfiler lsp = presets::dlr_lsp();
+  const LaserStripeProfiler lsp = presets::lsp_by_name(opt.sensor);
   GroundTruth::Setting gts;
   gts.seed = opt.seed;
   gts.completeness_radius_m = params.completeness_radius_m;
@@ -466,19 +394,12 @@ int run(const Options& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::optional<Options> opt;
+  Options opt;
+  CLI::App app("nbs_model: simulated autonomous modeling of a mesh with the Next-Best-Scan planner", "nbs_model");
+  add_options(app, opt);
+  if (const auto code = nbs::tools::parse(app, argc, argv)) return *code;
   try {
-    opt = parse(argc, argv);
-  } catch (const UsageError& e) {
-    std::cerr << "nbs_model: " << e.message << "\n" << kUsage;
-    return 2;
-  }
-  if (!opt) {
-    std::cout << kUsage;
-    return 0;
-  }
-  try {
-    return run(*opt);
+    return run(opt);
   } catch (const std::exception& e) {
     std::cerr << "nbs_model: error: " << e.what() << "\n";
     return 1;

@@ -8,7 +8,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libnanoflann-dev libtinyobjloader-dev catch2 libbenchmark-dev
-  libembree-dev liboctomap-dev libfcl-dev libpng-dev nlohmann-json3-dev
+  libembree-dev liboctomap-dev libfcl-dev libpng-dev nlohmann-json3-dev libcli11-dev
   libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev libode-dev
 )
 for arg in "$@"; do

@@ -27,6 +27,8 @@
 #include "nbs/planner/runtime_planner.hpp"
 #include "nbs/sensor/presets.hpp"
 
+#include "common/options.hpp"
+
 namespace nbs::eval {
 
 /// A usage or input error: printed with the usage, exit code 2.
@@ -200,8 +202,8 @@ void for_each_parameter(Parameters& p, F&& f) {
 struct Options {
   std::string mesh;
   double size_m = 0.16;
-  UpAxis up = UpAxis::z;
-  std::string up_name = "z";
+  UpAxis up = UpAxis::y;  // the default of every tool (tools/common/options.hpp kDefaultUp)
+  std::string up_name = "y";
   std::vector<Method> methods;
   int runs = 20;
   int scans = 30;
@@ -221,7 +223,7 @@ inline constexpr std::string_view kUsage =
     "options:\n"
     "  --mesh PATH       OBJ or PLY mesh of the object (required)\n"
     "  --size M          largest bounding-box extent after scaling, metres (default 0.16)\n"
-    "  --up x|y|z        axis of the file that points up (default z; the bundled bunny is y)\n"
+    "  --up x|y|z        axis of the file that points up (default y, as in the bundled bunny and every tool)\n"
     "  --methods LIST    comma-separated method codes (default C_H), or 'all' / 'thesis' (the 12 R,I,Q,C x S,B,H)\n"
     "  --runs N          runs per method, >= 1 (default 20)\n"
     "  --scans N         n_abort, scans per run (default: max_scans of the config, 30)\n"
@@ -293,55 +295,43 @@ namespace detail {
   return out;
 }
 
-/// Parses the run command's arguments (argv[0] excluded). Throws UsageError. Sets `help` for --help.
+/// Parses the run command's arguments (argv[0] excluded) with the tools' shared options (tools/common/options.hpp:
+/// --mesh --up --size --seed --out; `--config` here is the planner configuration above). Throws UsageError naming
+/// the option and the value. Sets `help` for --help.
 [[nodiscard]] inline Options parse_options(const std::vector<std::string>& args, bool& help) {
   Options o;
   o.methods = {Method{}};
   help = false;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--help" || a == "-h") {
-      help = true;
-      return o;
-    }
-    if (i + 1 >= args.size()) throw UsageError("unknown option or missing value: '" + a + "'");
-    const std::string& v = args[++i];
-    if (a == "--mesh") o.mesh = v;
-    else if (a == "--size") {
-      o.size_m = detail::parse_double(v, "--size");
-      if (!(o.size_m > 0.0 && o.size_m < 1e3)) throw UsageError("--size must be in (0, 1000) m, got " + v);
-    } else if (a == "--up") {
-      if (v == "x") o.up = UpAxis::x;
-      else if (v == "y") o.up = UpAxis::y;
-      else if (v == "z") o.up = UpAxis::z;
-      else throw UsageError("--up must be x, y or z, got '" + v + "'");
-      o.up_name = v;
-    } else if (a == "--methods") o.methods = parse_methods(v);
-    else if (a == "--runs") {
-      const long long n = detail::parse_int(v, "--runs");
-      if (n < 1 || n > 1000000) throw UsageError("--runs must be in [1, 1000000], got " + v);
-      o.runs = static_cast<int>(n);
-    } else if (a == "--scans") {
-      const long long n = detail::parse_int(v, "--scans");
-      if (n < 1 || n > 100000) throw UsageError("--scans must be in [1, 100000], got " + v);
-      o.scans = static_cast<int>(n);
-      o.scans_given = true;
-    } else if (a == "--seed") o.seed = detail::parse_u64(v, "--seed");
-    else if (a == "--threads") {
-      const long long n = detail::parse_int(v, "--threads");
-      if (n < 1 || n > 1024) throw UsageError("--threads must be in [1, 1024], got " + v);
-      o.threads = static_cast<unsigned>(n);
-    } else if (a == "--out") o.out = v;
-    else if (a == "--config") o.config = v;
-    else if (a == "--shard") {
-      const std::size_t slash = v.find('/');
-      if (slash == std::string::npos) throw UsageError("--shard must be K/N, got '" + v + "'");
-      const long long k = detail::parse_int(std::string_view(v).substr(0, slash), "--shard K");
-      const long long n = detail::parse_int(std::string_view(v).substr(slash + 1), "--shard N");
-      if (n < 1 || n > 100000 || k < 1 || k > n) throw UsageError("--shard K/N needs 1 <= K <= N, got '" + v + "'");
-      o.shard_k = static_cast<int>(k);
-      o.shard_n = static_cast<int>(n);
-    } else throw UsageError("unknown option '" + a + "'");
+  CLI::App app("nbs_eval", "nbs_eval");
+  tools::set_conventions(app);
+  tools::add_mesh(app, o.mesh, "OBJ or PLY mesh of the object")->required();
+  tools::add_size(app, o.size_m);
+  tools::add_up(app, o.up)->each([&o](const std::string& v) { o.up_name = v; });
+  app.add_option_function<std::string>("--methods", [&o](const std::string& v) { o.methods = parse_methods(v); });
+  app.add_option("--runs", o.runs)->check(tools::integer_in(1, 1000000));
+  app.add_option_function<int>("--scans", [&o](int n) { o.scans = n, o.scans_given = true; })
+      ->check(tools::integer_in(1, 100000));
+  tools::add_seed(app, o.seed);
+  app.add_option("--threads", o.threads)->check(tools::integer_in(1, 1024));
+  tools::add_out(app, o.out)->required();
+  app.add_option("--config", o.config);
+  app.add_option_function<std::string>("--shard", [&o](const std::string& v) {
+    const std::size_t slash = v.find('/');
+    if (slash == std::string::npos) throw UsageError("--shard must be K/N, got '" + v + "'");
+    const long long k = detail::parse_int(std::string_view(v).substr(0, slash), "--shard K");
+    const long long n = detail::parse_int(std::string_view(v).substr(slash + 1), "--shard N");
+    if (n < 1 || n > 100000 || k < 1 || k > n) throw UsageError("--shard K/N needs 1 <= K <= N, got '" + v + "'");
+    o.shard_k = static_cast<int>(k);
+    o.shard_n = static_cast<int>(n);
+  });
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes the arguments reversed
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    help = true;
+    return o;
+  } catch (const CLI::ParseError& e) {
+    throw UsageError(e.what());
   }
   if (o.mesh.empty()) throw UsageError("--mesh is required");
   if (o.out.empty()) throw UsageError("--out is required");

@@ -252,12 +252,12 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
   };
   rejected({"--mesh", bunny, "--out", out, "--methods", "C_H,X_Y"}, "unknown planning method 'X_Y'");
   rejected({"--mesh", bunny, "--out", out, "--methods", "X_Y"}, "valid codes: R_S");
-  rejected({"--mesh", bunny, "--out", out, "--runs", "0"}, "--runs must be in [1");
+  rejected({"--mesh", bunny, "--out", out, "--runs", "0"}, "--runs: expects an integer in [1");
   rejected({"--mesh", bunny, "--out", out, "--shard", "3/2"}, "--shard K/N needs 1 <= K <= N");
   rejected({"--mesh", bunny, "--out", out, "--shard", "0/2"}, "--shard K/N needs 1 <= K <= N");
   rejected({"--mesh", bunny, "--out", out, "--shard", "12"}, "--shard must be K/N");
-  rejected({"--mesh", bunny, "--out", out, "--up", "w"}, "--up must be x, y or z");
-  rejected({"--mesh", bunny, "--out", out, "--frobnicate", "1"}, "unknown option '--frobnicate'");
+  rejected({"--mesh", bunny, "--out", out, "--up", "w"}, "--up: expects x, y or z, got 'w'");
+  rejected({"--mesh", bunny, "--out", out, "--frobnicate", "1"}, "--frobnicate");
   rejected({"--out", out}, "--mesh is required");
   const fs::path cfg = tmp.path / "bad.json";
   std::ofstream(cfg) << R"({"target_coverage": 2.0})";

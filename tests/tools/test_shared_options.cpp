@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The option set every tool shares (tools/common/options.hpp), end to end: a bad value of a shared option exits 2
+// with a message naming the option and the value and nothing on stdout, in each tool that is built; --config reads
+// the long option names and rejects an unknown key; --help exits 0.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nbs_catch.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Runs `exe args` with stdout and stderr captured in files next to the test's temporary directory.
+Result run(const std::string& exe, const std::string& args) {
+  const fs::path dir = fs::temp_directory_path() / ("nbs_options_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string cmd = "'" + exe + "' " + args + " >'" + (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
+  const int status = std::system(cmd.c_str());
+  Result r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "out"), slurp(dir / "err")};
+  fs::remove_all(dir);
+  return r;
+}
+
+/// The tools built with this configuration that take the mesh options.
+std::vector<std::string> mesh_tools() {
+  std::vector<std::string> t;
+#ifdef NBS_MODEL_EXE
+  t.emplace_back(NBS_MODEL_EXE);
+#endif
+#ifdef NBS_DIAGNOSE_EXE
+  t.emplace_back(NBS_DIAGNOSE_EXE);
+#endif
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("shared options: a bad value exits 2 naming the option and the value", "[tools][options]") {
+  const std::vector<std::string> tools = mesh_tools();
+  if (tools.empty()) {
+    WARN("neither nbs_model nor nbs_diagnose is built (they need Embree): nothing to check");
+    return;
+  }
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"--up w", "'w'"},          {"--size -0.1", "'-0.1'"},      {"--size 1e999", "'1e999'"},
+      {"--seed 7x", "'7x'"},      {"--seed -1", "'-1'"},          {"--method C_X", "'C_X'"},
+      {"--sensor nope", "'nope'"}, {"--sensor asus_xtion_pro", "area sensor"}, {"--size", "--size"}};
+  for (const std::string& exe : tools) {
+    for (const auto& [args, needle] : bad) {
+      const Result r = run(exe, args);
+      INFO(exe << " " << args << "\n" << r.err);
+      CHECK(r.code == 2);
+      CHECK(r.out.empty());
+      CHECK_THAT(r.err, nbs_test::Contains(needle));
+    }
+    const Result help = run(exe, "--help");
+    CHECK(help.code == 0);
+    CHECK_THAT(help.out, nbs_test::Contains("--config"));
+  }
+}
+
+TEST_CASE("shared options: --config", "[tools][options]") {
+  const std::vector<std::string> tools = mesh_tools();
+  if (tools.empty()) {
+    WARN("neither nbs_model nor nbs_diagnose is built (they need Embree): nothing to check");
+    return;
+  }
+  const fs::path cfg = fs::temp_directory_path() / ("nbs_options_cfg_" + std::to_string(::getpid()) + ".json");
+  for (const std::string& exe : tools) {
+    INFO(exe);
+    std::ofstream(cfg) << R"({"up": "q"})";
+    Result r = run(exe, "--config '" + cfg.string() + "'");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, nbs_test::Contains("'q'"));
+    std::ofstream(cfg) << R"({"upp": "z"})";
+    r = run(exe, "--config '" + cfg.string() + "'");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, nbs_test::Contains("unknown key 'upp'"));
+    std::ofstream(cfg) << R"({"up": "q")";
+    r = run(exe, "--config '" + cfg.string() + "'");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, nbs_test::Contains("not valid JSON"));
+    // The command line wins over the file: the bad file value is replaced, and the bad mesh is what is reported.
+    std::ofstream(cfg) << R"({"up": "q", "mesh": "/nonexistent/m.obj"})";
+    r = run(exe, "--config '" + cfg.string() + "' --up z");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, nbs_test::Contains("/nonexistent/m.obj"));
+    r = run(exe, "--config '" + (cfg.string() + ".missing") + "'");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, nbs_test::Contains(".missing"));
+  }
+  fs::remove(cfg);
+}

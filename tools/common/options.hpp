@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// \file
+/// The option set shared by nbs's command-line tools (CLI11): `--mesh --up --size --seed --method --sensor --config
+/// --out` mean the same in every tool, with the same defaults. `parse` runs a CLI11 app with the nbs conventions:
+/// `--help` prints and exits 0; a bad option or value prints `<tool>: <message naming option and value>` and the
+/// hint to `--help` on stderr and exits 2 (kUsageExit); `--config FILE` reads a JSON object whose keys are long
+/// option names without `--` (`{"size": 0.2, "up": "z", "no-images": true}`), the command line wins over the file.
+/// Used by nbs_plan, nbs_model, nbs_diagnose and nbs_eval (whose `--config` is a planner configuration, not these
+/// options: benchmarks/eval/config.hpp; it takes `--methods LIST`, not `--method`).
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nbs/core/parameters.hpp"
+#include "nbs/mesh/normalize.hpp"
+#include "nbs/planner/runtime_planner.hpp"
+#include "nbs/sensor/presets.hpp"
+
+namespace nbs::tools {
+
+/// Exit code for bad input (options, values, input files); 1 is left for failures while running.
+inline constexpr int kUsageExit = 2;
+
+/// `--up` default: y, the up axis of the bundled Stanford bunny OBJ, the default `--mesh` of every tool (and of the
+/// Stanford repository's meshes); z-up files (nbs's own PLY output, rocker-arm) pass `--up z`.
+inline constexpr UpAxis kDefaultUp = UpAxis::y;
+
+[[nodiscard]] inline std::string_view format_up(UpAxis up) { return up == UpAxis::x ? "x" : up == UpAxis::y ? "y" : "z"; }
+
+/// A value that is wrong for its option; `parse` prints it and exits 2.
+struct UsageError : CLI::ValidationError {
+  UsageError(const std::string& option, const std::string& what) : CLI::ValidationError(option, what) {}
+};
+
+/// `--mesh PATH`: the ground-truth mesh, OBJ or PLY (read by load_mesh; its errors are usage errors).
+inline CLI::Option* add_mesh(CLI::App& app, std::string& path, const std::string& what = "ground-truth mesh, OBJ or PLY") {
+  return app.add_option("--mesh", path, what)->type_name("PATH");
+}
+
+/// `--up x|y|z`: the axis of the mesh file that points up (default kDefaultUp).
+inline CLI::Option* add_up(CLI::App& app, UpAxis& up) {
+  up = kDefaultUp;
+  return app
+      .add_option_function<std::string>(
+          "--up",
+          [&up](const std::string& v) {
+            if (v == "x") up = UpAxis::x;
+            else if (v == "y") up = UpAxis::y;
+            else if (v == "z") up = UpAxis::z;
+            else throw UsageError("--up", "expects x, y or z, got '" + v + "'");
+          },
+          "axis of the mesh file that points up: x, y or z (default y, as in the bundled bunny)")
+      ->type_name("AXIS");
+}
+
+/// A finite number > 0 (CLI11 validator naming the value).
+inline const CLI::Validator kPositive(
+    [](std::string& s) -> std::string {
+      double v = 0.0;
+      std::size_t used = 0;
+      try {
+        v = std::stod(s, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != s.size() || !(v > 0.0) || !std::isfinite(v)) return "expects a finite number > 0, got '" + s + "'";
+      return {};
+    },
+    "", "positive");
+
+/// `--size M`: largest extent of the object after normalisation, metres (default Parameters::object_size_m).
+inline CLI::Option* add_size(CLI::App& app, double& size_m) {
+  return app.add_option("--size", size_m, "largest extent of the object after normalisation, metres, > 0")
+      ->check(kPositive)
+      ->type_name("M")
+      ->capture_default_str();
+}
+
+/// An unsigned integer in [lo, hi] (CLI11 validator naming the value; rejects signs and trailing text).
+[[nodiscard]] inline CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& s) -> std::string {
+        std::size_t used = 0;
+        unsigned long long v = 0;
+        try {
+          if (!s.empty() && s[0] != '-' && s[0] != '+') v = std::stoull(s, &used, 10);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (s.empty() || used != s.size() || v < lo || v > hi)
+          return "expects an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + s + "'";
+        return {};
+      },
+      "", "integer_in");
+}
+
+/// `--seed N`: seed of everything random in the tool (default 1).
+inline CLI::Option* add_seed(CLI::App& app, std::uint64_t& seed) {
+  return app.add_option("--seed", seed, "seed of the first scan path, sensor noise, samples and Random selection")
+      ->check(integer_in(0, ~0ULL))
+      ->type_name("N")
+      ->capture_default_str();
+}
+
+/// `--method CODE`: the planning method (parse_method; default C_H).
+inline CLI::Option* add_method(CLI::App& app, Method& method) {
+  return app
+      .add_option_function<std::string>(
+          "--method",
+          [&method](const std::string& v) {
+            try {
+              method = parse_method(v);
+            } catch (const InvalidArgument& e) {
+              throw UsageError("--method", e.what());
+            }
+          },
+          "planning method (default C_H): R|I|Q|C _ S|B|H (Fig. 4.19) or OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H")
+      ->type_name("CODE");
+}
+
+/// `--sensor NAME`: a laser stripe profiler preset (presets::lsp_by_name; default dlr_lsp).
+inline CLI::Option* add_sensor(CLI::App& app, std::string& name) {
+  std::string names;  // the laser stripe profiler presets
+  for (std::string_view n : presets::kNames)
+    if (std::holds_alternative<LaserStripeProfiler>(presets::by_name(n))) (names += names.empty() ? "" : ", ") += n;
+  return app
+      .add_option_function<std::string>(
+          "--sensor",
+          [&name](const std::string& v) {
+            try {
+              (void)presets::lsp_by_name(v);
+            } catch (const InvalidArgument& e) {
+              throw UsageError("--sensor", e.what());
+            }
+            name = v;
+          },
+          "laser stripe profiler preset: " + names + " (default dlr_lsp)")
+      ->type_name("NAME");
+}
+
+/// `--out DIR`: output directory, created if missing.
+inline CLI::Option* add_out(CLI::App& app, std::string& dir) {
+  return app.add_option("--out", dir, "output directory, created if missing")->type_name("DIR")->capture_default_str();
+}
+
+/// `--config FILE` (read by `parse` before the command line; listed here for --help).
+inline CLI::Option* add_config(CLI::App& app) {
+  return app.add_option("--config", "JSON file with options: {\"<long option>\": value, ...}; the command line wins")
+      ->type_name("FILE");
+}
+
+namespace detail {
+/// The value of `--config` in argv, if any (`--config F` or `--config=F`).
+[[nodiscard]] inline std::optional<std::string> config_argument(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    if (a == "--config") return i + 1 < argc ? std::optional<std::string>(argv[i + 1]) : std::nullopt;
+    if (a.starts_with("--config=")) return std::string(a.substr(9));
+  }
+  return std::nullopt;
+}
+
+/// The arguments that the JSON object in `path` stands for. Throws UsageError naming the file, key and value.
+[[nodiscard]] inline std::vector<std::string> config_arguments(const CLI::App& app, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError("--config", path + ": cannot be read");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(ss.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw UsageError("--config", path + ": not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw UsageError("--config", path + ": must hold a JSON object, got " + j.type_name());
+  std::vector<std::string> args;
+  for (const auto& [key, value] : j.items()) {
+    const CLI::Option* opt = app.get_option_no_throw("--" + key);
+    if (key == "config" || opt == nullptr)
+      throw UsageError("--config", path + ": unknown key '" + key + "' (keys are the tool's long options without --)");
+    const std::string name = "--" + key;
+    if (opt->get_expected_max() == 0) {  // a flag
+      if (!value.is_boolean()) throw UsageError("--config", path + ": '" + key + "' is a flag and needs true or false");
+      if (value.get<bool>()) args.push_back(name);
+      continue;
+    }
+    if (value.is_string()) args.insert(args.end(), {name, value.get<std::string>()});
+    else if (value.is_number()) args.insert(args.end(), {name, value.dump()});
+    else throw UsageError("--config", path + ": '" + key + "' needs a string or a number, got " + value.dump());
+  }
+  return args;
+}
+}  // namespace detail
+
+/// Sets the nbs conventions on a new app (a repeated option: the last value wins); call before adding options.
+inline void set_conventions(CLI::App& app) {
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
+/// Parses argv (after `--config FILE`'s options) into `app`. Returns the exit code if the tool must stop (0 after
+/// --help, kUsageExit after printing the error), std::nullopt to go on.
+[[nodiscard]] inline std::optional<int> parse(CLI::App& app, int argc, char** argv) {
+  try {
+    std::vector<std::string> args;
+    if (const auto cfg = detail::config_argument(argc, argv)) args = detail::config_arguments(app, *cfg);
+    for (int i = 1; i < argc; ++i) args.emplace_back(argv[i]);
+    std::reverse(args.begin(), args.end());  // CLI11 takes the arguments reversed
+    app.parse(args);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << app.get_name() << ": " << e.what() << "\nRun with --help for more information.\n";
+    return kUsageExit;
+  }
+  return std::nullopt;
+}
+
+}  // namespace nbs::tools
