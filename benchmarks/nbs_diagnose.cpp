@@ -41,12 +41,13 @@
 #include "nbs/sim/detail/point_kd_tree.hpp"
 #include "nbs/sim/ground_truth.hpp"
 
+#include "common/data_dir.hpp"
 #include "common/options.hpp"
 
 namespace {
 
 struct Options {
-  std::string mesh = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  std::string mesh = nbs::tools::bundled_data("meshes/stanford-bunny.obj");
   nbs::UpAxis up = nbs::tools::kDefaultUp;
   double size_m = 0.16;
   std::uint64_t seed = 1;

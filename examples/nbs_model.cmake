@@ -3,4 +3,7 @@
 # (CLI11, tools/).
 if(TARGET nbs::embree AND TARGET nbs::png AND TARGET nbs_tool_options)
   nbs_add_example(nbs_model SOURCES nbs_model.cpp LIBS nbs::embree nbs::png nbs_tool_options)
+  if(NBS_INSTALL)
+    install(TARGETS nbs_model RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endif()
 endif()

@@ -43,12 +43,13 @@
 #include "nbs/sim/metrics.hpp"
 #include "nbs/space/export_ply.hpp"
 
+#include "common/data_dir.hpp"
 #include "common/options.hpp"
 
 namespace {
 
 struct Options {
-  std::string mesh = std::string(NBS_DATA_DIR) + "/meshes/stanford-bunny.obj";
+  std::string mesh = nbs::tools::bundled_data("meshes/stanford-bunny.obj");
   nbs::UpAxis up = nbs::tools::kDefaultUp;
   double size_m = nbs::Parameters{}.object_size_m;
   std::uint64_t seed = 1;

@@ -9,6 +9,7 @@
 #   3. a required component that is unknown, and one whose dependency is missing (octomap hidden by
 #      CMAKE_DISABLE_FIND_PACKAGE_octomap, which also takes fcl; libpng hidden likewise), fail naming the component
 #      and the reason; the same as OPTIONAL_COMPONENTS configures and says which one is missing;
+#   1b. runs the installed tools from the moved prefix (nbs_model loads the installed demo mesh);
 #   4. pkg-config: compiles and runs tests/downstream/main.cpp (core only) with `pkg-config --cflags --libs nbs`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,6 +32,19 @@ if grep -nE 'INTERFACE_[A-Z_]+ "[^"]*(^|;|")/' "$prefix"/share/cmake/nbs/*Target
   exit 1
 fi
 echo "relocatable: OK (installed, moved, no installed file names the build, source or first prefix)"
+
+# The installed tools run from the moved prefix; nbs_model finds its demo mesh in <prefix>/share/nbs, not the source.
+"$prefix/bin/nbs_plan" --help >/dev/null
+if [[ -x $prefix/bin/nbs_model ]]; then
+  "$prefix/bin/nbs_model" --scans 1 --no-images --out "$work/model" >"$work/model.log"
+  if ! grep -qF "object  $prefix/share/nbs/meshes/stanford-bunny.obj:" "$work/model.log"; then
+    echo "test-package: the installed nbs_model did not load the installed mesh:" >&2
+    head -3 "$work/model.log" >&2
+    exit 1
+  fi
+fi
+[[ ! -e $prefix/bin/nbs_eval ]] || "$prefix/bin/nbs_eval" --help >/dev/null
+echo "installed tools: OK ($(ls "$prefix/bin" | tr '\n' ' '))"
 
 cmake -S tests/downstream -B "$work/all" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$work/all" -j "$jobs" >/dev/null
