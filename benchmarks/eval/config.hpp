@@ -4,9 +4,9 @@
 /// Command line and planner set-up file of nbs_eval. Everything is validated here, before any work starts.
 /// `--config FILE` is the tools' options file (tools/common/options.hpp); the planner set-up is `--setup FILE`.
 ///
-/// Set-up file (JSON object, every key optional; docs/eval/configs/*.json): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
-/// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
-/// "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
+/// Set-up file (JSON object, every key optional; docs/eval/configs/*.json): each field of nbs::Parameters by its C++
+/// name (Tab. 4.3, SI units, e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset
+/// ("dlr_lsp", "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
 /// (default) | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
 /// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
@@ -53,17 +53,17 @@ struct Setup {
 namespace detail {
 inline constexpr std::string_view kMeshNames[] = {"thesis", "noise_robust"};  // index = RuntimeModels::noise_robust_mesh
 
-/// Index of the string value of config key `key` in `names`. Throws UsageError naming the key, the value and the
+/// Index of the string value of set-up key `key` in `names`. Throws UsageError naming the key, the value and the
 /// valid names.
 template <std::size_t N>
 [[nodiscard]] std::size_t choice(const nlohmann::json& v, const std::string& key, const std::string_view (&names)[N]) {
   std::string list;
   for (std::string_view n : names) list += (list.empty() ? "" : " | ") + std::string(n);
-  if (!v.is_string()) throw UsageError("config key '" + key + "' must be a string (" + list + "), got " + v.dump());
+  if (!v.is_string()) throw UsageError("set-up key '" + key + "' must be a string (" + list + "), got " + v.dump());
   const std::string s = v.get<std::string>();
   for (std::size_t i = 0; i < N; ++i)
     if (s == names[i]) return i;
-  throw UsageError("config key '" + key + "' must be one of " + list + ", got '" + s + "'");
+  throw UsageError("set-up key '" + key + "' must be one of " + list + ", got '" + s + "'");
 }
 }  // namespace detail
 
@@ -80,12 +80,12 @@ namespace detail {
 template <class T>
 void set_field(const nlohmann::json& v, const std::string& key, T& field) {
   if constexpr (std::is_same_v<T, int>) {
-    if (!v.is_number_integer()) throw UsageError("config key '" + key + "' must be an integer, got " + v.dump());
+    if (!v.is_number_integer()) throw UsageError("set-up key '" + key + "' must be an integer, got " + v.dump());
     const auto x = v.get<std::int64_t>();
-    if (x < -1000000000 || x > 1000000000) throw UsageError("config key '" + key + "' is out of range: " + v.dump());
+    if (x < -1000000000 || x > 1000000000) throw UsageError("set-up key '" + key + "' is out of range: " + v.dump());
     field = static_cast<int>(x);
   } else {
-    if (!v.is_number()) throw UsageError("config key '" + key + "' must be a number, got " + v.dump());
+    if (!v.is_number()) throw UsageError("set-up key '" + key + "' must be a number, got " + v.dump());
     field = v.get<double>();
   }
 }
@@ -122,7 +122,7 @@ void for_each_parameter(Parameters& p, F&& f) {
 }
 }  // namespace detail
 
-/// Parameters + sensor as JSON (the keys the config file accepts, with their values).
+/// Parameters + sensor as JSON (the keys the set-up file accepts, with their values).
 [[nodiscard]] inline nlohmann::json setup_json(Setup s) {
   nlohmann::json j = nlohmann::json::object();
   detail::for_each_parameter(s.params, [&](const char* name, auto& field) { j[name] = field; });
@@ -133,7 +133,7 @@ void for_each_parameter(Parameters& p, F&& f) {
   return j;
 }
 
-/// Parses a config JSON text. `origin` names the source in messages. Throws UsageError.
+/// Parses a set-up JSON text. `origin` names the source in messages. Throws UsageError.
 [[nodiscard]] inline Setup parse_setup(const std::string& text, const std::string& origin) {
   nlohmann::json j;
   try {
@@ -145,7 +145,7 @@ void for_each_parameter(Parameters& p, F&& f) {
   Setup s;
   for (const auto& [key, value] : j.items()) {
     if (key == "sensor") {
-      if (!value.is_string()) throw UsageError(origin + ": config key 'sensor' must be a string, got " + value.dump());
+      if (!value.is_string()) throw UsageError(origin + ": set-up key 'sensor' must be a string, got " + value.dump());
       s.sensor = value.get<std::string>();
       (void)sensor_preset(s.sensor);
       continue;
@@ -160,7 +160,7 @@ void for_each_parameter(Parameters& p, F&& f) {
         continue;
       }
       if (key == "keep_exploring") {
-        if (!value.is_boolean()) throw UsageError("config key 'keep_exploring' must be true or false, got " + value.dump());
+        if (!value.is_boolean()) throw UsageError("set-up key 'keep_exploring' must be true or false, got " + value.dump());
         s.planner.keep_exploring = value.get<bool>();
         continue;
       }
@@ -181,7 +181,7 @@ void for_each_parameter(Parameters& p, F&& f) {
     if (!found) {
       std::string valid;
       detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
-      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring)");
+      throw UsageError(origin + ": unknown set-up key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring)");
     }
   }
   try {

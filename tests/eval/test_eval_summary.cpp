@@ -233,7 +233,7 @@ TEST_CASE("set-up file: fields by name, errors name the key", "[eval]") {
     }
     return "";
   };
-  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("unknown config key 'voxel_size'"));
+  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("unknown set-up key 'voxel_size'"));
   CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("voxel_size_m"));  // lists the valid keys
   CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), nbs_test::Contains("scan_overlap"));
   CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), nbs_test::Contains("out-of-range"));
@@ -394,6 +394,16 @@ TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finishe
   REQUIRE(again.size() == 2);
   CHECK(again[0] == a[0]);
   CHECK(again[1] == a[1]);
+  // The same configuration through --config (options) and --setup (planner set-up, here the defaults) resumes it:
+  // eval.json holds the parsed set-up, not the file names.
+  const fs::path options = tmp.path / "options.json", defaults = tmp.path / "defaults.json";
+  std::ofstream(defaults) << "{}";
+  std::ofstream(options) << Json{{"mesh", bunny}, {"up", "y"}, {"size", 0.05}, {"method", "C_H"}, {"runs", 2},
+                                 {"scans", 2}, {"seed", 7}, {"setup", defaults.string()}}
+                                .dump();
+  REQUIRE(run_cli({"--config", options.string(), "--out", full.string()}, log) == 0);
+  CHECK_THAT(log, nbs_test::Contains("2 finished runs found"));
+  CHECK(lines_of(full / "runs.jsonl") == a);
   // A different configuration in the same --out is refused.
   CHECK(run_cli({"--mesh", bunny, "--up", "y", "--size", "0.06", "--methods", "C_H", "--runs", "2", "--scans", "2",
                  "--seed", "7", "--out", full.string()},
