@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
-/// Command line and configuration file of nbs_eval. Everything is validated here, before any work starts.
+/// Command line and planner set-up file of nbs_eval. Everything is validated here, before any work starts.
+/// `--config FILE` is the tools' options file (tools/common/options.hpp); the planner set-up is `--setup FILE`.
 ///
-/// Config file (JSON object, every key optional): each field of nbs::Parameters by its C++ name (Tab. 4.3, SI units,
-/// e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset ("dlr_lsp",
-/// "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
+/// Set-up file (JSON object, every key optional; docs/eval/configs/*.json): each field of nbs::Parameters by its C++
+/// name (Tab. 4.3, SI units, e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset
+/// ("dlr_lsp", "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
 /// (default) | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
 /// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
+#include <algorithm>
 #include <charconv>
 #include <cstddef>
 #include <cstdint>
@@ -36,7 +38,7 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The experiment's physical set-up, read from the config file.
+/// The experiment's physical set-up, read from the set-up file (`--sensor` overrides its "sensor").
 struct Setup {
   Parameters params{};
   std::string sensor = "dlr_lsp";
@@ -51,17 +53,17 @@ struct Setup {
 namespace detail {
 inline constexpr std::string_view kMeshNames[] = {"thesis", "noise_robust"};  // index = RuntimeModels::noise_robust_mesh
 
-/// Index of the string value of config key `key` in `names`. Throws UsageError naming the key, the value and the
+/// Index of the string value of set-up key `key` in `names`. Throws UsageError naming the key, the value and the
 /// valid names.
 template <std::size_t N>
 [[nodiscard]] std::size_t choice(const nlohmann::json& v, const std::string& key, const std::string_view (&names)[N]) {
   std::string list;
   for (std::string_view n : names) list += (list.empty() ? "" : " | ") + std::string(n);
-  if (!v.is_string()) throw UsageError("config key '" + key + "' must be a string (" + list + "), got " + v.dump());
+  if (!v.is_string()) throw UsageError("set-up key '" + key + "' must be a string (" + list + "), got " + v.dump());
   const std::string s = v.get<std::string>();
   for (std::size_t i = 0; i < N; ++i)
     if (s == names[i]) return i;
-  throw UsageError("config key '" + key + "' must be one of " + list + ", got '" + s + "'");
+  throw UsageError("set-up key '" + key + "' must be one of " + list + ", got '" + s + "'");
 }
 }  // namespace detail
 
@@ -78,12 +80,12 @@ namespace detail {
 template <class T>
 void set_field(const nlohmann::json& v, const std::string& key, T& field) {
   if constexpr (std::is_same_v<T, int>) {
-    if (!v.is_number_integer()) throw UsageError("config key '" + key + "' must be an integer, got " + v.dump());
+    if (!v.is_number_integer()) throw UsageError("set-up key '" + key + "' must be an integer, got " + v.dump());
     const auto x = v.get<std::int64_t>();
-    if (x < -1000000000 || x > 1000000000) throw UsageError("config key '" + key + "' is out of range: " + v.dump());
+    if (x < -1000000000 || x > 1000000000) throw UsageError("set-up key '" + key + "' is out of range: " + v.dump());
     field = static_cast<int>(x);
   } else {
-    if (!v.is_number()) throw UsageError("config key '" + key + "' must be a number, got " + v.dump());
+    if (!v.is_number()) throw UsageError("set-up key '" + key + "' must be a number, got " + v.dump());
     field = v.get<double>();
   }
 }
@@ -120,7 +122,7 @@ void for_each_parameter(Parameters& p, F&& f) {
 }
 }  // namespace detail
 
-/// Parameters + sensor as JSON (the keys the config file accepts, with their values).
+/// Parameters + sensor as JSON (the keys the set-up file accepts, with their values).
 [[nodiscard]] inline nlohmann::json setup_json(Setup s) {
   nlohmann::json j = nlohmann::json::object();
   detail::for_each_parameter(s.params, [&](const char* name, auto& field) { j[name] = field; });
@@ -131,7 +133,7 @@ void for_each_parameter(Parameters& p, F&& f) {
   return j;
 }
 
-/// Parses a config JSON text. `origin` names the source in messages. Throws UsageError.
+/// Parses a set-up JSON text. `origin` names the source in messages. Throws UsageError.
 [[nodiscard]] inline Setup parse_setup(const std::string& text, const std::string& origin) {
   nlohmann::json j;
   try {
@@ -143,7 +145,7 @@ void for_each_parameter(Parameters& p, F&& f) {
   Setup s;
   for (const auto& [key, value] : j.items()) {
     if (key == "sensor") {
-      if (!value.is_string()) throw UsageError(origin + ": config key 'sensor' must be a string, got " + value.dump());
+      if (!value.is_string()) throw UsageError(origin + ": set-up key 'sensor' must be a string, got " + value.dump());
       s.sensor = value.get<std::string>();
       (void)sensor_preset(s.sensor);
       continue;
@@ -158,7 +160,7 @@ void for_each_parameter(Parameters& p, F&& f) {
         continue;
       }
       if (key == "keep_exploring") {
-        if (!value.is_boolean()) throw UsageError("config key 'keep_exploring' must be true or false, got " + value.dump());
+        if (!value.is_boolean()) throw UsageError("set-up key 'keep_exploring' must be true or false, got " + value.dump());
         s.planner.keep_exploring = value.get<bool>();
         continue;
       }
@@ -179,7 +181,7 @@ void for_each_parameter(Parameters& p, F&& f) {
     if (!found) {
       std::string valid;
       detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
-      throw UsageError(origin + ": unknown config key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring)");
+      throw UsageError(origin + ": unknown set-up key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring)");
     }
   }
   try {
@@ -192,10 +194,10 @@ void for_each_parameter(Parameters& p, F&& f) {
 
 [[nodiscard]] inline Setup load_setup(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw UsageError("cannot read config file '" + path + "'");
+  if (!in) throw UsageError("--setup: cannot read '" + path + "'");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_setup(ss.str(), "config file '" + path + "'");
+  return parse_setup(ss.str(), "--setup '" + path + "'");
 }
 
 /// Options of `nbs_eval` (the run command).
@@ -211,7 +213,8 @@ struct Options {
   std::uint64_t seed = 1;
   unsigned threads = 2;
   std::string out;
-  std::string config;
+  std::string setup;   ///< `--setup FILE`, empty: the defaults
+  std::string sensor;  ///< `--sensor NAME`, empty: the set-up's
   int shard_k = 1, shard_n = 1;  ///< this process runs the (method, run) pairs with index % n == k − 1
 };
 
@@ -225,14 +228,20 @@ inline constexpr std::string_view kUsage =
     "  --size M          largest bounding-box extent after scaling, metres (default 0.16)\n"
     "  --up x|y|z        axis of the file that points up (default y, as in the bundled bunny and every tool)\n"
     "  --methods LIST    comma-separated method codes (default C_H), or 'all' / 'thesis' (the 12 R,I,Q,C x S,B,H)\n"
+    "  --method CODE     one method: the same as --methods CODE (not both)\n"
     "  --runs N          runs per method, >= 1 (default 20)\n"
-    "  --scans N         n_abort, scans per run (default: max_scans of the config, 30)\n"
+    "  --scans N         n_abort, scans per run (default: max_scans of the set-up, 30)\n"
     "  --seed N          base seed; run r uses a seed derived from (seed, r) only (default 1)\n"
     "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
-    "  --config FILE     JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp | scancontrol_2700_100,\n"
-    "                    \"mesh\": noise_robust | thesis, \"coverage_estimate\": unseen_open | unseen_loops | thesis,\n"
-    "                    \"keep_exploring\": true | false (defaults first; docs/eval/configs/thesis.json: the thesis's)\n"
+    "  --setup FILE      planner set-up, JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp |\n"
+    "                    scancontrol_2700_100, \"mesh\": noise_robust | thesis, \"coverage_estimate\": unseen_open |\n"
+    "                    unseen_loops | thesis, \"keep_exploring\": true | false (defaults first;\n"
+    "                    docs/eval/configs/thesis.json: the thesis's)\n"
+    "  --sensor NAME     laser stripe profiler preset: dlr_lsp | scancontrol_2700_100; overrides the set-up's\n"
+    "                    \"sensor\" (default: the set-up's, dlr_lsp)\n"
+    "  --config FILE     JSON file with options: {\"<long option>\": value, ...} (e.g. \"runs\": 5, \"setup\":\n"
+    "                    \"docs/eval/configs/thesis.json\"); the command line wins\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"
@@ -295,9 +304,18 @@ namespace detail {
   return out;
 }
 
+namespace detail {
+/// Whether `name` is among the arguments themselves (`name V` or `name=V`), not only in a `--config` file.
+[[nodiscard]] inline bool given(const std::vector<std::string>& args, std::string_view name) {
+  for (const std::string& a : args)
+    if (a == name || (a.starts_with(name) && a.size() > name.size() && a[name.size()] == '=')) return true;
+  return false;
+}
+}  // namespace detail
+
 /// Parses the run command's arguments (argv[0] excluded) with the tools' shared options (tools/common/options.hpp:
-/// --mesh --up --size --seed --out; `--config` here is the planner configuration above). Throws UsageError naming
-/// the option and the value. Sets `help` for --help.
+/// --mesh --up --size --seed --method --sensor --config --out). Throws UsageError naming the option and the value.
+/// Sets `help` for --help.
 [[nodiscard]] inline Options parse_options(const std::vector<std::string>& args, bool& help) {
   Options o;
   o.methods = {Method{}};
@@ -307,14 +325,19 @@ namespace detail {
   tools::add_mesh(app, o.mesh, "OBJ or PLY mesh of the object")->required();
   tools::add_size(app, o.size_m);
   tools::add_up(app, o.up)->each([&o](const std::string& v) { o.up_name = v; });
-  app.add_option_function<std::string>("--methods", [&o](const std::string& v) { o.methods = parse_methods(v); });
+  std::vector<Method> list;
+  app.add_option_function<std::string>("--methods", [&list](const std::string& v) { list = parse_methods(v); });
+  Method one{};
+  tools::add_method(app, one);
+  tools::add_sensor(app, o.sensor);
+  app.add_option("--setup", o.setup);
+  tools::add_config(app);
   app.add_option("--runs", o.runs)->check(tools::integer_in(1, 1000000));
   app.add_option_function<int>("--scans", [&o](int n) { o.scans = n, o.scans_given = true; })
       ->check(tools::integer_in(1, 100000));
   tools::add_seed(app, o.seed);
   app.add_option("--threads", o.threads)->check(tools::integer_in(1, 1024));
   tools::add_out(app, o.out)->required();
-  app.add_option("--config", o.config);
   app.add_option_function<std::string>("--shard", [&o](const std::string& v) {
     const std::size_t slash = v.find('/');
     if (slash == std::string::npos) throw UsageError("--shard must be K/N, got '" + v + "'");
@@ -324,18 +347,36 @@ namespace detail {
     o.shard_k = static_cast<int>(k);
     o.shard_n = static_cast<int>(n);
   });
-  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes the arguments reversed
   try {
-    app.parse(reversed);
+    std::vector<std::string> all = tools::with_config(app, args);
+    std::reverse(all.begin(), all.end());  // CLI11 takes the arguments reversed
+    app.parse(all);
   } catch (const CLI::CallForHelp&) {
     help = true;
     return o;
   } catch (const CLI::ParseError& e) {
-    throw UsageError(e.what());
+    const std::string what = e.what();
+    if (what.starts_with("--config") && what.find("unknown key") != std::string::npos)
+      throw UsageError(what + "; a planner set-up file is --setup FILE");
+    throw UsageError(what);
   }
+  // --method and --methods: one of them, or the one on the command line over the other in the --config file.
+  const bool method = app.count("--method") > 0, methods = app.count("--methods") > 0;
+  if (method && methods && detail::given(args, "--method") == detail::given(args, "--methods"))
+    throw UsageError("--method and --methods: give one of them, not both");
+  if (method && (!methods || detail::given(args, "--method"))) o.methods = {one};
+  else if (methods) o.methods = list;
   if (o.mesh.empty()) throw UsageError("--mesh is required");
   if (o.out.empty()) throw UsageError("--out is required");
   return o;
+}
+
+/// The set-up of a run: `--setup`'s file (the defaults without it) with its "sensor" replaced by `--sensor` if
+/// given. Throws UsageError.
+[[nodiscard]] inline Setup resolve_setup(const Options& o) {
+  Setup s = o.setup.empty() ? Setup{} : load_setup(o.setup);
+  if (!o.sensor.empty()) s.sensor = o.sensor;
+  return s;
 }
 
 }  // namespace nbs::eval

@@ -137,7 +137,7 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     out << usage();
     return 0;
   }
-  Setup setup = o.config.empty() ? Setup{} : load_setup(o.config);
+  Setup setup = resolve_setup(o);
   if (o.scans_given) setup.params.max_scans = o.scans;
   else o.scans = setup.params.max_scans;
   setup.params.object_size_m = o.size_m;

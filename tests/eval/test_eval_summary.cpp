@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // nbs_eval (issue 6): statistics against hand-computed values (type-7 quantiles, Eq. 4.41 notch, means), run
-// outcome and summary, config-file and CLI errors (before any work), and shards merged == the unsharded run.
+// outcome and summary, set-up file and CLI errors (before any work), --setup / --config / --sensor / --method, and
+// shards merged == the unsharded run.
 
 #include "nbs_catch.hpp"
 
@@ -40,6 +41,16 @@ int run_cli(const std::vector<std::string>& args, std::string& log) {
   const int rc = nbs::eval::main(static_cast<int>(argv.size()), argv.data(), out, err);
   log = out.str() + err.str();
   return rc;
+}
+
+/// Checks that nbs_eval `args` exits 2 with `needle` in its output, before writing `out`.
+void expect_rejected(const std::vector<std::string>& args, const std::string& needle, const fs::path& out) {
+  std::string log;
+  const int rc = run_cli(args, log);
+  INFO(log);
+  CHECK(rc == 2);
+  CHECK_THAT(log, nbs_test::Contains(needle));
+  CHECK(!fs::exists(out));  // nothing written
 }
 
 std::string read(const fs::path& p) {
@@ -181,7 +192,7 @@ TEST_CASE("run record JSON round trip", "[eval]") {
   CHECK_THROWS(nbs::eval::record_from_json(broken));
 }
 
-TEST_CASE("config file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {
+TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {
   const nbs::eval::Setup d = nbs::eval::parse_setup("{}", "cfg");  // the planner's defaults
   CHECK(d.models.noise_robust_mesh);
   CHECK(d.models.coverage_estimate == nbs::CoverageEstimate::unseen_open);
@@ -207,7 +218,7 @@ TEST_CASE("config file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK_FALSE(back.planner.keep_exploring);
 }
 
-TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
+TEST_CASE("set-up file: fields by name, errors name the key", "[eval]") {
   const nbs::eval::Setup s =
       nbs::eval::parse_setup(R"({"voxel_size_m": 0.004, "max_scans": 12, "sensor": "scancontrol_2700_100"})", "cfg");
   CHECK(s.params.voxel_size_m == 0.004);
@@ -222,7 +233,7 @@ TEST_CASE("config file: fields by name, errors name the key", "[eval]") {
     }
     return "";
   };
-  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("unknown config key 'voxel_size'"));
+  CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("unknown set-up key 'voxel_size'"));
   CHECK_THAT(error_of(R"({"voxel_size": 0.004})"), nbs_test::Contains("voxel_size_m"));  // lists the valid keys
   CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), nbs_test::Contains("scan_overlap"));
   CHECK_THAT(error_of(R"({"scan_overlap": 1.5})"), nbs_test::Contains("out-of-range"));
@@ -243,12 +254,8 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
   const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
   const std::string out = (tmp.path / "out").string();
   std::string log;
-  const auto rejected = [&](std::vector<std::string> args, const std::string& needle) {
-    const int rc = run_cli(args, log);
-    INFO(log);
-    CHECK(rc == 2);
-    CHECK_THAT(log, nbs_test::Contains(needle));
-    CHECK(!fs::exists(out));  // nothing written
+  const auto rejected = [&](const std::vector<std::string>& args, const std::string& needle) {
+    expect_rejected(args, needle, out);
   };
   rejected({"--mesh", bunny, "--out", out, "--methods", "C_H,X_Y"}, "unknown planning method 'X_Y'");
   rejected({"--mesh", bunny, "--out", out, "--methods", "X_Y"}, "valid codes: R_S");
@@ -261,7 +268,7 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
   rejected({"--out", out}, "--mesh is required");
   const fs::path cfg = tmp.path / "bad.json";
   std::ofstream(cfg) << R"({"target_coverage": 2.0})";
-  rejected({"--mesh", bunny, "--out", out, "--config", cfg.string()}, "target_coverage");
+  rejected({"--mesh", bunny, "--out", out, "--setup", cfg.string()}, "target_coverage");
   const fs::path text = tmp.path / "notamesh.obj";
   std::ofstream(text) << "this is not a mesh\n";
   rejected({"--mesh", text.string(), "--out", out}, "error: mesh '" + text.string() + "': ");
@@ -269,6 +276,73 @@ TEST_CASE("CLI: bad input is reported before any work starts", "[eval]") {
   CHECK(run_cli({"--help"}, log) == 0);
   CHECK_THAT(log, nbs_test::Contains("--shard K/N"));
   CHECK_THAT(log, nbs_test::Contains("VG_H"));
+  CHECK_THAT(log, nbs_test::Contains("--setup FILE"));
+  CHECK_THAT(log, nbs_test::Contains("overrides the set-up's"));
+}
+
+TEST_CASE("CLI: --setup is the planner set-up, --config the shared options file, --sensor and --method", "[eval]") {
+  TempDir tmp("options");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  const std::string out = (tmp.path / "out").string();
+  const auto parse = [](const std::vector<std::string>& args) {
+    bool help = false;
+    return nbs::eval::parse_options(args, help);
+  };
+  // --setup reads the set-up file that --config read before.
+  const std::string text = R"({"voxel_size_m": 0.004, "max_scans": 12, "sensor": "scancontrol_2700_100",
+                               "coverage_estimate": "thesis", "keep_exploring": false})";
+  const fs::path setup = tmp.path / "setup.json";
+  std::ofstream(setup) << text;
+  const nbs::eval::Options o = parse({"--mesh", bunny, "--out", out, "--setup", setup.string()});
+  CHECK(o.setup == setup.string());
+  CHECK(nbs::eval::setup_json(nbs::eval::resolve_setup(o)) ==
+        nbs::eval::setup_json(nbs::eval::parse_setup(text, "cfg")));
+  const nbs::eval::Setup thesis = nbs::eval::resolve_setup(
+      parse({"--mesh", bunny, "--out", out, "--setup", NBS_DATA_DIR "/../docs/eval/configs/thesis.json"}));
+  CHECK_FALSE(thesis.models.noise_robust_mesh);
+  CHECK(thesis.models.coverage_estimate == nbs::CoverageEstimate::thesis);
+  // --sensor overrides the set-up's "sensor".
+  CHECK(nbs::eval::resolve_setup(o).sensor == "scancontrol_2700_100");
+  CHECK(nbs::eval::resolve_setup(parse({"--mesh", bunny, "--out", out, "--setup", setup.string(), "--sensor",
+                                        "dlr_lsp"}))
+            .sensor == "dlr_lsp");
+  CHECK(nbs::eval::resolve_setup(parse({"--mesh", bunny, "--out", out, "--sensor", "scancontrol_2700_100"})).sensor ==
+        "scancontrol_2700_100");
+
+  // --config: the long option names; the command line wins.
+  const fs::path cfg = tmp.path / "options.json";
+  std::ofstream(cfg) << R"({"runs": 3, "methods": "C_H,C_S", "seed": 9, "setup": ")" + setup.string() + R"("})";
+  const nbs::eval::Options c = parse({"--mesh", bunny, "--out", out, "--config", cfg.string(), "--runs", "5"});
+  CHECK(c.runs == 5);
+  CHECK(c.seed == 9);
+  CHECK(c.setup == setup.string());
+  REQUIRE(c.methods.size() == 2);
+  CHECK(nbs::format_method(c.methods[1]) == "C_S");
+  // --method: one method; on the command line it wins over the file's "methods".
+  const nbs::eval::Options m = parse({"--mesh", bunny, "--out", out, "--config", cfg.string(), "--method", "R_S"});
+  REQUIRE(m.methods.size() == 1);
+  CHECK(nbs::format_method(m.methods[0]) == "R_S");
+  const nbs::eval::Options q = parse({"--mesh", bunny, "--out", out, "--method", "Q_B"});
+  REQUIRE(q.methods.size() == 1);
+  CHECK(nbs::format_method(q.methods[0]) == "Q_B");
+
+  const auto rejected = [&](const std::vector<std::string>& args, const std::string& needle) {
+    expect_rejected(args, needle, out);
+  };
+  // A planner set-up given to --config is an error naming the key.
+  const fs::path planner = tmp.path / "planner.json";
+  std::ofstream(planner) << R"({"coverage_estimate": "thesis"})";
+  rejected({"--mesh", bunny, "--out", out, "--config", planner.string()}, "unknown key 'coverage_estimate'");
+  rejected({"--mesh", bunny, "--out", out, "--config", planner.string()}, "--setup FILE");
+  rejected({"--mesh", bunny, "--out", out, "--sensor", "kinect"}, "--sensor: unknown sensor preset 'kinect'");
+  rejected({"--mesh", bunny, "--out", out, "--sensor", "kinect"}, "valid names: dlr_lsp, scancontrol_2700_100");
+  rejected({"--mesh", bunny, "--out", out, "--sensor", "asus_xtion_pro"}, "area sensor");
+  rejected({"--mesh", bunny, "--out", out, "--method", "C_H", "--methods", "C_S"}, "--method and --methods");
+  rejected({"--mesh", bunny, "--out", out, "--method", "C_X"}, "--method: unknown planning method 'C_X'");
+  const fs::path both = tmp.path / "both.json";
+  std::ofstream(both) << R"({"method": "C_H", "methods": "C_S"})";
+  rejected({"--mesh", bunny, "--out", out, "--config", both.string()}, "--method and --methods");
+  rejected({"--mesh", bunny, "--out", out, "--setup", (tmp.path / "missing.json").string()}, "--setup: cannot read");
 }
 
 TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finished runs", "[eval][slow]") {
@@ -320,6 +394,16 @@ TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finishe
   REQUIRE(again.size() == 2);
   CHECK(again[0] == a[0]);
   CHECK(again[1] == a[1]);
+  // The same configuration through --config (options) and --setup (planner set-up, here the defaults) resumes it:
+  // eval.json holds the parsed set-up, not the file names.
+  const fs::path options = tmp.path / "options.json", defaults = tmp.path / "defaults.json";
+  std::ofstream(defaults) << "{}";
+  std::ofstream(options) << Json{{"mesh", bunny}, {"up", "y"}, {"size", 0.05}, {"method", "C_H"}, {"runs", 2},
+                                 {"scans", 2}, {"seed", 7}, {"setup", defaults.string()}}
+                                .dump();
+  REQUIRE(run_cli({"--config", options.string(), "--out", full.string()}, log) == 0);
+  CHECK_THAT(log, nbs_test::Contains("2 finished runs found"));
+  CHECK(lines_of(full / "runs.jsonl") == a);
   // A different configuration in the same --out is refused.
   CHECK(run_cli({"--mesh", bunny, "--up", "y", "--size", "0.06", "--methods", "C_H", "--runs", "2", "--scans", "2",
                  "--seed", "7", "--out", full.string()},

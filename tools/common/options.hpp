@@ -6,8 +6,8 @@
 /// `--help` prints and exits 0; a bad option or value prints `<tool>: <message naming option and value>` and the
 /// hint to `--help` on stderr and exits 2 (kUsageExit); `--config FILE` reads a JSON object whose keys are long
 /// option names without `--` (`{"size": 0.2, "up": "z", "no-images": true}`), the command line wins over the file.
-/// Used by nbs_plan, nbs_model, nbs_diagnose and nbs_eval (whose `--config` is a planner configuration, not these
-/// options: benchmarks/eval/config.hpp; it takes `--methods LIST`, not `--method`).
+/// Used by nbs_plan, nbs_model, nbs_diagnose and nbs_eval (whose planner set-up file is `--setup`, and which takes
+/// `--methods LIST` next to `--method`: benchmarks/eval/config.hpp).
 
 #include <CLI/CLI.hpp>
 
@@ -164,11 +164,11 @@ inline CLI::Option* add_config(CLI::App& app) {
 }
 
 namespace detail {
-/// The value of `--config` in argv, if any (`--config F` or `--config=F`).
-[[nodiscard]] inline std::optional<std::string> config_argument(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view a = argv[i];
-    if (a == "--config") return i + 1 < argc ? std::optional<std::string>(argv[i + 1]) : std::nullopt;
+/// The value of `--config` in the arguments, if any (`--config F` or `--config=F`).
+[[nodiscard]] inline std::optional<std::string> config_argument(const std::vector<std::string>& args) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string_view a = args[i];
+    if (a == "--config") return i + 1 < args.size() ? std::optional<std::string>(args[i + 1]) : std::nullopt;
     if (a.starts_with("--config=")) return std::string(a.substr(9));
   }
   return std::nullopt;
@@ -206,6 +206,15 @@ namespace detail {
 }
 }  // namespace detail
 
+/// The arguments (argv[0] excluded) with those of `--config FILE` put first, so that the command line wins.
+/// Throws UsageError naming the file, key and value.
+[[nodiscard]] inline std::vector<std::string> with_config(const CLI::App& app, const std::vector<std::string>& args) {
+  std::vector<std::string> all;
+  if (const auto cfg = detail::config_argument(args)) all = detail::config_arguments(app, *cfg);
+  all.insert(all.end(), args.begin(), args.end());
+  return all;
+}
+
 /// Sets the nbs conventions on a new app (a repeated option: the last value wins); call before adding options.
 inline void set_conventions(CLI::App& app) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -215,9 +224,7 @@ inline void set_conventions(CLI::App& app) {
 /// --help, kUsageExit after printing the error), std::nullopt to go on.
 [[nodiscard]] inline std::optional<int> parse(CLI::App& app, int argc, char** argv) {
   try {
-    std::vector<std::string> args;
-    if (const auto cfg = detail::config_argument(argc, argv)) args = detail::config_arguments(app, *cfg);
-    for (int i = 1; i < argc; ++i) args.emplace_back(argv[i]);
+    std::vector<std::string> args = with_config(app, std::vector<std::string>(argv + 1, argv + argc));
     std::reverse(args.begin(), args.end());  // CLI11 takes the arguments reversed
     app.parse(args);
   } catch (const CLI::CallForHelp& e) {
