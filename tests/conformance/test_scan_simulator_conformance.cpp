@@ -32,12 +32,7 @@ struct FloorScanner {
   }
 };
 
-nbs::LaserStripeProfiler light_lsp() {
-  nbs::LaserStripeProfiler s = nbs::presets::dlr_lsp();
-  s.points_per_profile = 100;
-  s.profile_spacing_m = 0.002;
-  return s;
-}
+nbs::LaserStripeProfiler light_lsp() { return nbs::test::light_lsp(100); }
 
 }  // namespace
 

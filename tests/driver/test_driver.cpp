@@ -29,14 +29,8 @@ using nbs::Aabb;
 using nbs::Pose;
 using nbs::Vec3;
 
-Aabb sphere_box() { return {Vec3(-0.06, -0.06, 0.0), Vec3(0.06, 0.06, 0.10)}; }
-
-nbs::LaserStripeProfiler light_lsp() {
-  nbs::LaserStripeProfiler s = nbs::presets::dlr_lsp();
-  s.points_per_profile = 200;
-  s.profile_spacing_m = 0.002;
-  return s;
-}
+using nbs::test::light_lsp;
+using nbs::test::sphere_box;
 
 nbs::SimulationSetting loop_setting(std::uint64_t seed, int max_scans) {
   nbs::SimulationSetting sim;

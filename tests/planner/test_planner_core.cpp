@@ -21,16 +21,8 @@ namespace {
 using nbs::Aabb;
 using nbs::Vec3;
 
-/// The bounding box of the unknown area around the test sphere: pedestal plane z = 0 up to above the top.
-Aabb sphere_box() { return {Vec3(-0.06, -0.06, 0.0), Vec3(0.06, 0.06, 0.10)}; }
-
-/// A lighter LSP (fewer rays, 2 mm profile spacing) so the loop tests stay fast; geometry as the DLR LSP.
-nbs::LaserStripeProfiler light_lsp() {
-  nbs::LaserStripeProfiler s = nbs::presets::dlr_lsp();
-  s.points_per_profile = 200;
-  s.profile_spacing_m = 0.002;
-  return s;
-}
+using nbs::test::light_lsp;
+using nbs::test::sphere_box;
 
 nbs::PlannerSetting setting(unsigned threads) {
   nbs::PlannerSetting s;

@@ -12,6 +12,7 @@
 #include "nbs/core/scan_path.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
+#include "nbs/sensor/presets.hpp"
 
 namespace nbs::test {
 
@@ -61,5 +62,16 @@ struct SphereOnPedestal {
     return out;
   }
 };
+
+/// The bounding box of the unknown area around SphereOnPedestal: pedestal plane z = 0 up to above the top.
+inline Aabb sphere_box() { return {Vec3(-0.06, -0.06, 0.0), Vec3(0.06, 0.06, 0.10)}; }
+
+/// A lighter LSP (fewer rays, 2 mm profile spacing) so that loop tests stay fast; geometry as the DLR LSP.
+inline LaserStripeProfiler light_lsp(int points_per_profile = 200) {
+  LaserStripeProfiler s = presets::dlr_lsp();
+  s.points_per_profile = points_per_profile;
+  s.profile_spacing_m = 0.002;
+  return s;
+}
 
 }  // namespace nbs::test
