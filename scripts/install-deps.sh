@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
-# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz]
+# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz] [--with-docs]
 #   --with-plots  adds python3-matplotlib for benchmarks/plots
 #   --with-fuzz   adds clang and libFuzzer for scripts/fuzz.sh
+#   --with-docs   adds doxygen and graphviz for scripts/docs.sh
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -15,6 +16,7 @@ for arg in "$@"; do
   case $arg in
     --with-plots) packages+=(python3-matplotlib python3-numpy) ;;
     --with-fuzz) packages+=(clang libclang-rt-dev) ;;
+    --with-docs) packages+=(doxygen graphviz) ;;
     *) echo "install-deps: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done

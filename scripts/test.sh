@@ -6,7 +6,7 @@
 #   3. ThreadSanitizer                   (build/test-tsan; only the tests that run threads, tsan_tests below)
 # then checks the installed package (scripts/test-package.sh: relocatable, find_package COMPONENTS with every
 # adapter, errors for missing ones, pkg-config) and finally runs each libFuzzer target for 15 s
-# (scripts/fuzz.sh --quick, clang).
+# (scripts/fuzz.sh --quick, clang), and generates the API reference (scripts/docs.sh: Doxygen, no warnings).
 # Prints CTest's summary for each configuration and "ALL TESTS PASSED" at the end; exits non-zero on failure.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -44,4 +44,7 @@ scripts/test-package.sh build/test-release "$jobs"
 
 echo "=== [fuzz] libFuzzer, 15 s per target (scripts/fuzz.sh --quick)"
 scripts/fuzz.sh --quick --jobs "$jobs"
+
+echo "=== [docs] API reference (scripts/docs.sh: Doxygen over every public header, no warnings)"
+scripts/docs.sh
 echo "ALL TESTS PASSED"

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// \file Convenience header: every core type.
+/// \file
+/// Convenience header: every core type.
 #include "nbs/core/error.hpp"
 #include "nbs/core/parameters.hpp"
 #include "nbs/core/scan.hpp"

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// \file Convenience header: the CandidateGenerator concept and its models (Boundary Search, Hole Rescan, sphere).
+/// \file
+/// Convenience header: the CandidateGenerator concept and its models (Boundary Search, Hole Rescan, sphere).
 #include "nbs/candidates/boundary_search.hpp"
 #include "nbs/candidates/candidate_generator.hpp"
 #include "nbs/candidates/hole_rescan.hpp"

@@ -20,8 +20,8 @@ namespace nbs {
 
 /// Counts describing a mesh. Edges are undirected vertex pairs {a, b} with a != b.
 struct LoadReport {
-  std::size_t vertices = 0;              ///< #V.
-  std::size_t faces = 0;                 ///< #F.
+  std::size_t vertices = 0;              ///< \#V.
+  std::size_t faces = 0;                 ///< \#F.
   std::size_t zero_area_faces = 0;       ///< faces with |(b−a)×(c−a)| == 0 (includes repeated indices).
   std::size_t duplicate_faces = 0;       ///< faces whose vertex set equals that of an earlier face.
   std::size_t non_manifold_edges = 0;    ///< edges used by more than 2 faces.
@@ -30,7 +30,7 @@ struct LoadReport {
   std::size_t inconsistent_edges = 0;    ///< edges used by exactly 2 faces that traverse it in the same direction.
 };
 
-/// Counts of `mesh`. Throws InvalidArgument if a triangle index is >= #V. O(#F) expected time; thread-safe.
+/// Counts of `mesh`. Throws InvalidArgument if a triangle index is >= \#V. O(\#F) expected time; thread-safe.
 [[nodiscard]] inline LoadReport inspect_mesh(const IndexedMesh& mesh) {
   const std::size_t nv = mesh.vertices.size();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)

@@ -17,8 +17,8 @@ namespace nbs {
 struct IndexedMesh {
   using Triangle = std::array<std::uint32_t, 3>;
 
-  std::vector<Vec3> vertices;      ///< #V vertex positions.
-  std::vector<Triangle> triangles; ///< #F triangles, counter-clockwise seen from outside where known.
+  std::vector<Vec3> vertices;      ///< \#V vertex positions.
+  std::vector<Triangle> triangles; ///< \#F triangles, counter-clockwise seen from outside where known.
   std::vector<Vec3> normals;       ///< optional per-vertex unit normals: empty, or one per vertex.
 
   [[nodiscard]] bool empty() const { return triangles.empty(); }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// \file Convenience header: the mesh concept, the streaming mesh and every mesh analysis.
+/// \file
+/// Convenience header: the mesh concept, the streaming mesh and every mesh analysis.
 #include "nbs/mesh/boundaries.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/density.hpp"

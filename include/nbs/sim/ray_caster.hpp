@@ -28,7 +28,7 @@ concept RayCaster = requires(const R& r, const Vec3& origin, const Vec3& directi
   { r.first_hit(origin, direction, max_distance) } -> std::convertible_to<std::optional<RayHit>>;
 };
 
-/// O(#F) ray caster over an IndexedMesh (Möller–Trumbore, double precision, both faces). Borrows the mesh: it must
+/// O(\#F) ray caster over an IndexedMesh (Möller–Trumbore, double precision, both faces). Borrows the mesh: it must
 /// outlive the caster. Thread-safe for concurrent `first_hit` calls. Intended as an oracle and for tiny meshes.
 class BruteForceRayCaster {
 public:

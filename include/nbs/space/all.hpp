@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// \file Convenience header: the probabilistic voxel space (Sec. 3.3.2) with both update models.
+/// \file
+/// Convenience header: the probabilistic voxel space (Sec. 3.3.2) with both update models.
 #include "nbs/space/backend.hpp"
 #include "nbs/space/concepts.hpp"
 #include "nbs/space/export_ply.hpp"

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// \file Convenience header: NBS utility (Sec. 4.5.3) — scalars, terms, peer metrics, candidate evaluation, runtime
+/// \file
+/// Convenience header: NBS utility (Sec. 4.5.3) — scalars, terms, peer metrics, candidate evaluation, runtime
 /// selection.
 #include "nbs/utility/candidate_rays.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
