@@ -101,8 +101,15 @@ struct RunRecord {
   return r;
 }
 
+/// First scan (1-based) after which c_a ≥ share · c_obs; n_abort + 1 when no scan reaches it.
+[[nodiscard]] inline int scans_to_truth(const RunRecord& r, double share) {
+  for (std::size_t i = 0; i < r.scans.size(); ++i)
+    if (r.scans[i].c_a >= share * r.c_obs) return static_cast<int>(i) + 1;
+  return r.n_abort + 1;
+}
+
 /// The Tab. 4.5 contribution of one run: c_a(n_s), c_a at the last scan, l_s at the last scan, mean t_nbs over the
-/// planning steps (scans 2…), c_obs.
+/// planning steps (scans 2…), c_obs; and the truth-based k95, k99, l_s to k99 and n_s − k99 (RunOutcome).
 [[nodiscard]] inline RunOutcome outcome(const RunRecord& r) {
   RunOutcome o;
   o.n_s = r.n_s;
@@ -114,6 +121,11 @@ struct RunRecord {
   for (std::size_t i = 1; i < r.scans.size(); ++i) t += r.scans[i].t_nbs_s;
   o.mean_t_nbs_s = r.scans.size() > 1 ? t / static_cast<double>(r.scans.size() - 1) : 0.0;
   o.c_obs = r.c_obs;
+  o.k95 = scans_to_truth(r, 0.95);
+  const int k99 = scans_to_truth(r, 0.99);
+  o.k99 = k99;
+  o.path_to_k99_m = r.scans[std::min<std::size_t>(static_cast<std::size_t>(k99), r.scans.size()) - 1].l_s_m;
+  o.stop_minus_k99 = r.n_s - k99;
   return o;
 }
 
@@ -159,7 +171,11 @@ inline void sort_records(std::vector<RunRecord>& v) {
                        {"mean_ca_at_30", s.mean_ca_at_30},
                        {"mean_path_length_m", s.mean_path_length_m},
                        {"mean_t_nbs_s", s.mean_t_nbs_s},
-                       {"mean_c_obs", s.mean_c_obs}};
+                       {"mean_c_obs", s.mean_c_obs},
+                       {"median_k95", s.median_k95},
+                       {"median_k99", s.median_k99},
+                       {"mean_path_to_k99_m", s.mean_path_to_k99_m},
+                       {"stop_minus_k99", s.median_stop_minus_k99}};
   return j;
 }
 
@@ -190,20 +206,23 @@ namespace detail {
 }
 }  // namespace detail
 
-/// summary.md: Tab. 4.5 layout (coverages in percent), plus runs and c_obs.
+/// summary.md: Tab. 4.5 layout (coverages in percent), plus runs and c_obs, then the truth-based columns: median
+/// k95 / k99 (scans until c_a ≥ 0.95 / 0.99 c_obs, n_abort + 1 when never), mean l_s to k99, median n_s − k99.
 [[nodiscard]] inline std::string summary_markdown(const std::vector<MethodSummary>& rows, int n_abort) {
   using detail::fixed;
   std::ostringstream o;
   const std::string ab = std::to_string(n_abort);
   o << "| Method | Selection | Search | runs | median n_s | Notch | mean c_a(n_s) % | mean c_a(" << ab
-    << ") % | mean l_s / m | mean t_nbs / s | c_obs % |\n";
-  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    << ") % | mean l_s / m | mean t_nbs / s | c_obs % | median k95 | median k99 | mean l_s to k99 / m | n_s − k99 |\n";
+  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const MethodSummary& s : rows) {
     const Method m = parse_method(s.method);
     o << "| " << s.method << " | " << selection_name(m) << " | " << search_name(m) << " | " << s.runs << " | "
       << fixed(s.median_scans, 1) << " | ±" << fixed(s.notch, 2) << " | " << fixed(100.0 * s.mean_ca_at_stop, 2)
       << " | " << fixed(100.0 * s.mean_ca_at_30, 2) << " | " << fixed(s.mean_path_length_m, 2) << " | "
-      << fixed(s.mean_t_nbs_s, 2) << " | " << fixed(100.0 * s.mean_c_obs, 2) << " |\n";
+      << fixed(s.mean_t_nbs_s, 2) << " | " << fixed(100.0 * s.mean_c_obs, 2) << " | " << fixed(s.median_k95, 1)
+      << " | " << fixed(s.median_k99, 1) << " | " << fixed(s.mean_path_to_k99_m, 2) << " | "
+      << fixed(s.median_stop_minus_k99, 1) << " |\n";
   }
   return o.str();
 }
@@ -213,12 +232,13 @@ namespace detail {
   std::ostringstream o;
   o << std::setprecision(10);
   o << "method,selection,search,runs,median_n_s,notch,mean_c_a_at_n_s_percent,mean_c_a_at_n_abort_percent,"
-       "mean_l_s_m,mean_t_nbs_s,c_obs_percent\n";
+       "mean_l_s_m,mean_t_nbs_s,c_obs_percent,median_k95,median_k99,mean_path_to_k99_m,stop_minus_k99\n";
   for (const MethodSummary& s : rows) {
     const Method m = parse_method(s.method);
     o << s.method << ',' << selection_name(m) << ',' << search_name(m) << ',' << s.runs << ',' << s.median_scans
       << ',' << s.notch << ',' << 100.0 * s.mean_ca_at_stop << ',' << 100.0 * s.mean_ca_at_30 << ','
-      << s.mean_path_length_m << ',' << s.mean_t_nbs_s << ',' << 100.0 * s.mean_c_obs << '\n';
+      << s.mean_path_length_m << ',' << s.mean_t_nbs_s << ',' << 100.0 * s.mean_c_obs << ',' << s.median_k95 << ','
+      << s.median_k99 << ',' << s.mean_path_to_k99_m << ',' << s.median_stop_minus_k99 << '\n';
   }
   return o.str();
 }

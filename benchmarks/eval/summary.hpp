@@ -58,6 +58,11 @@ struct RunOutcome {
   double path_length_m = 0; ///< l_s over all scans of the run
   double mean_t_nbs_s = 0;  ///< mean NBS selection time of the run's planning steps (0 if none)
   double c_obs = 0;         ///< observability ceiling of the mesh
+  // Truth-based (issue 18): k_x = first scan after which c_a ≥ x · c_obs, n_abort + 1 when never.
+  double k95 = 0;           ///< k_0.95
+  double k99 = 0;           ///< k_0.99
+  double path_to_k99_m = 0; ///< l_s after scan k99; when never reached, l_s over all scans (a lower bound)
+  double stop_minus_k99 = 0;///< n_s − k99 (negative: the planner's criterion held before the truth reached 0.99)
 };
 
 /// One row of Tab. 4.5 (plus c_obs and the quartiles).
@@ -66,6 +71,7 @@ struct MethodSummary {
   std::size_t runs = 0;
   double median_scans = 0, q1_scans = 0, q3_scans = 0, notch = 0;
   double mean_ca_at_stop = 0, mean_ca_at_30 = 0, mean_path_length_m = 0, mean_t_nbs_s = 0, mean_c_obs = 0;
+  double median_k95 = 0, median_k99 = 0, mean_path_to_k99_m = 0, median_stop_minus_k99 = 0;  ///< truth-based
 };
 
 /// Summarises the runs of one method. Throws std::invalid_argument if `runs` is empty.
@@ -90,6 +96,10 @@ struct MethodSummary {
   s.mean_path_length_m = mean(column(&RunOutcome::path_length_m));
   s.mean_t_nbs_s = mean(column(&RunOutcome::mean_t_nbs_s));
   s.mean_c_obs = mean(column(&RunOutcome::c_obs));
+  s.median_k95 = median(column(&RunOutcome::k95));
+  s.median_k99 = median(column(&RunOutcome::k99));
+  s.mean_path_to_k99_m = mean(column(&RunOutcome::path_to_k99_m));
+  s.median_stop_minus_k99 = median(column(&RunOutcome::stop_minus_k99));
   return s;
 }
 

@@ -176,8 +176,48 @@ TEST_CASE("run outcome and method summary", "[eval]") {
                           "mean_t_nbs_s", "mean_c_obs"})
     CHECK(js.at("C_H").contains(key));
   const std::string md = nbs::eval::summary_markdown(rows, 3);
-  CHECK(md.find("| C_H | IG/Quality | BS/HR | 2 | 2.5 | ±0.56 | 75.00 | 80.00 | 0.80 | 2.00 | 95.00 |") !=
-        std::string::npos);
+  // Never reaches 0.95 · c_obs = 0.9025: k95 = k99 = n_abort + 1 = 4; l_s to k99 = all of it; n_s − k99 = −2, −1.
+  CHECK(md.find("| C_H | IG/Quality | BS/HR | 2 | 2.5 | ±0.56 | 75.00 | 80.00 | 0.80 | 2.00 | 95.00 | 4.0 | 4.0 | "
+                "0.80 | -1.5 |") != std::string::npos);
+}
+
+TEST_CASE("truth-based summary columns from a hand-made runs.jsonl", "[eval]") {
+  // Two RSE_H runs, n_abort 5, c_obs 0.9: 0.95 c_obs = 0.855, 0.99 c_obs = 0.891.
+  // Run 0: c_a .5 .86 .89 .895 .9 -> k95 = 2, k99 = 4 (0.89 < 0.891), l_s after scan 4 = 0.7, n_s 3 -> −1.
+  // Run 1: c_a .6 .7 .8 .85 .88 -> k95 = 5, k99 never = 6, l_s of all 5 scans = 1.0, n_s 5 -> −1.
+  const char* lines[] = {
+      R"({"method":"RSE_H","run":0,"seed":1,"initial_index":2,"n_abort":5,"n_s":3,"stop":"max_scans","c_obs":0.9,)"
+      R"("scans":{"c_m":[0,0,0,0,0],"d_m":[0,0,0,0,0],"c_a":[0.5,0.86,0.89,0.895,0.9],"c_b":[0,0,0,0,0],)"
+      R"("e_bar_m":[0,0,0,0,0],"l_s_m":[0.1,0.3,0.5,0.7,0.9],"t_nbs_s":[0,0,0,0,0],"candidates":[0,1,1,1,1],)"
+      R"("mode":["init","BS","BS","HR","HR"]}})",
+      R"({"method":"RSE_H","run":1,"seed":2,"initial_index":5,"n_abort":5,"n_s":5,"stop":"max_scans","c_obs":0.9,)"
+      R"("scans":{"c_m":[0,0,0,0,0],"d_m":[0,0,0,0,0],"c_a":[0.6,0.7,0.8,0.85,0.88],"c_b":[0,0,0,0,0],)"
+      R"("e_bar_m":[0,0,0,0,0],"l_s_m":[0.2,0.4,0.6,0.8,1.0],"t_nbs_s":[0,0,0,0,0],"candidates":[0,1,1,1,1],)"
+      R"("mode":["init","BS","BS","BS","BS"]}})"};
+  std::vector<nbs::eval::RunRecord> records;
+  for (const char* l : lines) records.push_back(nbs::eval::record_from_json(Json::parse(l)));
+  const nbs::eval::RunOutcome o0 = nbs::eval::outcome(records[0]), o1 = nbs::eval::outcome(records[1]);
+  CHECK(o0.k95 == 2);
+  CHECK(o0.k99 == 4);
+  CHECK(o0.path_to_k99_m == 0.7);
+  CHECK(o0.stop_minus_k99 == -1);
+  CHECK(o1.k95 == 5);
+  CHECK(o1.k99 == 6);
+  CHECK(o1.path_to_k99_m == 1.0);
+  CHECK(o1.stop_minus_k99 == -1);
+  const auto rows = nbs::eval::summarize_records(records);
+  REQUIRE(rows.size() == 1);
+  CHECK(rows[0].median_k95 == Approx(3.5));
+  CHECK(rows[0].median_k99 == Approx(5.0));
+  CHECK(rows[0].mean_path_to_k99_m == Approx(0.85));
+  CHECK(rows[0].median_stop_minus_k99 == Approx(-1.0));
+  const Json js = nbs::eval::summary_json(rows);
+  CHECK(js.at("RSE_H").at("median_k95").get<double>() == Approx(3.5));
+  CHECK(js.at("RSE_H").at("median_k99").get<double>() == Approx(5.0));
+  CHECK(js.at("RSE_H").at("mean_path_to_k99_m").get<double>() == Approx(0.85));
+  CHECK(js.at("RSE_H").at("stop_minus_k99").get<double>() == Approx(-1.0));
+  CHECK(nbs::eval::summary_markdown(rows, 5).find("| 3.5 | 5.0 | 0.85 | -1.0 |") != std::string::npos);
+  CHECK(nbs::eval::summary_csv(rows).find(",3.5,5,0.85,-1\n") != std::string::npos);
 }
 
 TEST_CASE("run record JSON round trip", "[eval]") {
