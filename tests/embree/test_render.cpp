@@ -131,3 +131,54 @@ TEST_CASE("renderer: projection and segments", "[embree][render]") {
   const std::size_t row = 69;  // 100 − 30.5 → floor 69
   for (std::size_t i : {50u, 100u, 150u, 180u}) CHECK(img.rgb[3 * (row * s.width + i) + 1] == 255);
 }
+
+TEST_CASE("renderer: the pedestal disc under the object, its rim, and the world axes", "[embree][render]") {
+  // A sphere (r = 5 cm) standing on a disc of radius 10 cm at z = 0, seen straight from above (orthographic):
+  // a ray hits the disc where |xy| <= 10 cm and the sphere does not hide it; the headlight is vertical there, so the
+  // pixel shows the disc's albedo exactly (the outer 3 % at half of it), beyond it the background.
+  const ne::Scene scene(nbs_test::sphere_mesh(Vec3(0, 0, 0.05), 0.05, 96));
+  ne::Camera c;
+  c.orthographic = true;
+  c.ortho_height_m = 0.3;
+  c.eye = Vec3(0, 0, 1);
+  c.target = Vec3::Zero();
+  c.up = Vec3(0, 1, 0);
+  ne::RenderSetting s;
+  s.width = s.height = 301;
+  s.pedestal = ne::Disc{Vec3::Zero(), 0.1};
+  const ne::Image img = ne::render(&scene, c, {}, s);
+  const auto pixel = [&](const Vec3& p) {
+    const auto q = ne::project(c, s, p);
+    REQUIRE(q);
+    const std::size_t k = 3 * (std::size_t(q->y()) * s.width + std::size_t(q->x()));
+    return nbs::Rgb{img.rgb[k], img.rgb[k + 1], img.rgb[k + 2]};
+  };
+  CHECK(pixel(Vec3(0.08, 0.0, 0.0)) == s.pedestal->color);   // disc, beside the sphere
+  CHECK(pixel(Vec3(0.0, -0.075, 0.0)) == s.pedestal->color);
+  CHECK(pixel(Vec3(0.0988, 0.0, 0.0)) == nbs::Rgb{95, 87, 75});  // rim: half the albedo
+  CHECK(pixel(Vec3(0.12, 0.0, 0.0)) == s.background);        // beyond the disc
+  CHECK(pixel(Vec3(0.0, 0.0, 0.0)) == s.surface);            // the sphere's top hides the disc (head-on: albedo)
+  // Depth: the sphere's top at 1 − 0.1 m, the disc at 1 m.
+  const auto depth = [&](const Vec3& p) {
+    const auto q = ne::project(c, s, p);
+    return img.depth[std::size_t(q->y()) * s.width + std::size_t(q->x())];
+  };
+  CHECK(depth(Vec3(0, 0, 0)) == Approx(0.9).margin(1e-3));
+  CHECK(depth(Vec3(0.08, 0, 0)) == Approx(1.0).margin(1e-9));
+  // Without the pedestal the same pixel is background.
+  ne::RenderSetting bare = s;
+  bare.pedestal.reset();
+  CHECK(count_color(ne::render(&scene, c, {}, bare), s.pedestal->color) == 0);
+  // Bad pedestal: InvalidArgument naming it.
+  ne::RenderSetting bad = s;
+  bad.pedestal->radius_m = -1.0;
+  CHECK_THROWS_WITH(ne::render(&scene, c, {}, bad), nbs_test::Contains("pedestal"));
+  // The axes: three 2-px segments from the origin, x red, y green, z blue.
+  const auto ax = ne::axes(Vec3(0.01, 0.02, 0.0), 0.05);
+  CHECK((ax[0].b - Vec3(0.06, 0.02, 0.0)).norm() < 1e-15);
+  CHECK((ax[1].b - Vec3(0.01, 0.07, 0.0)).norm() < 1e-15);
+  CHECK((ax[2].b - Vec3(0.01, 0.02, 0.05)).norm() < 1e-15);
+  const ne::Image with_axes = ne::render(nullptr, c, ax, s);
+  CHECK(count_color(with_axes, ax[0].color) > 0);
+  CHECK(count_color(with_axes, ax[1].color) > 0);
+}

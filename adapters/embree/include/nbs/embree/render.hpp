@@ -7,6 +7,7 @@
 /// Units: metres, radians; world frame (z up). Image: row-major RGB, top row first.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -70,18 +71,37 @@ struct Segment {
   int width_px = 1;
 };
 
+/// The world axes at `origin` as three segments of `length_m`: x red, y green, z blue (2 px wide).
+[[nodiscard]] inline std::array<Segment, 3> axes(const Vec3& origin, double length_m) {
+  return {Segment{origin, origin + Vec3(length_m, 0, 0), {220, 30, 30}, 2},
+          Segment{origin, origin + Vec3(0, length_m, 0), {30, 160, 30}, 2},
+          Segment{origin, origin + Vec3(0, 0, length_m), {30, 60, 220}, 2}};
+}
+
+/// A horizontal disc (the pedestal's top, world frame): drawn where a pixel's ray meets it before any mesh.
+struct Disc {
+  Vec3 center = Vec3::Zero();  ///< centre, metres; the disc lies in the plane z = center.z
+  double radius_m = 0.1;       ///< > 0
+  Rgb color{190, 175, 150};    ///< albedo; the outer 3 % of the radius is drawn darker as a rim
+};
+
 struct RenderSetting {
   std::uint32_t width = 480, height = 360;
   Rgb background{255, 255, 255};
   Rgb surface{205, 205, 215};    ///< albedo of the mesh
   double ambient = 0.15;         ///< share of the albedo shown regardless of the light, [0, 1]
   unsigned threads = 1;          ///< std::threads over image rows, [1, 256]; the image does not depend on it
+  std::optional<Disc> pedestal;  ///< drawn under the mesh when set (e.g. the support the object stands on)
 
   void validate() const {
     nbs::detail::require(width > 0 && height > 0 && width <= 8192 && height <= 8192, "RenderSetting: size ", width, " x ",
                     height, " must be in [1, 8192] per side");
     nbs::detail::require(threads >= 1 && threads <= 256, "RenderSetting.threads must be in [1, 256], got ", threads);
     nbs::detail::require(ambient >= 0.0 && ambient <= 1.0, "RenderSetting.ambient must be in [0, 1], got ", ambient);
+    if (pedestal)
+      nbs::detail::require(pedestal->center.allFinite() && std::isfinite(pedestal->radius_m) && pedestal->radius_m > 0.0,
+                           "RenderSetting.pedestal: centre must be finite and radius > 0, got centre (",
+                           pedestal->center.transpose(), "), radius ", pedestal->radius_m);
   }
 };
 
@@ -149,12 +169,26 @@ struct Frame {  // camera basis: right, image-up, forward
       else dir = (fr.f + fr.tan_half * (x * fr.r + y * fr.u)).normalized();
       const std::size_t k = std::size_t(j) * s.width + i;
       Rgb c = s.background;
-      if (scene != nullptr) {
+      const auto paint = [&](const Rgb& albedo, double lambert, double dist) {  // headlight; both faces lit
+        img.depth[k] = static_cast<float>(dist);
+        const double shade = s.ambient + (1.0 - s.ambient) * lambert;
+        for (int ch = 0; ch < 3; ++ch) c[ch] = static_cast<std::uint8_t>(std::lround(shade * albedo[ch]));
+      };
+      std::optional<double> mesh_t;
+      if (scene != nullptr)
         if (const auto hit = scene->first_hit(origin, dir)) {
-          img.depth[k] = static_cast<float>(hit->distance);
-          const double lambert = std::abs(hit->normal.dot(dir));  // headlight; both faces lit
-          const double shade = s.ambient + (1.0 - s.ambient) * lambert;
-          for (int ch = 0; ch < 3; ++ch) c[ch] = static_cast<std::uint8_t>(std::lround(shade * s.surface[ch]));
+          mesh_t = hit->distance;
+          paint(s.surface, std::abs(hit->normal.dot(dir)), hit->distance);
+        }
+      if (s.pedestal && dir.z() != 0.0) {
+        const double t = (s.pedestal->center.z() - origin.z()) / dir.z();
+        const Vec3 p = origin + t * dir;
+        const double rho = (p - s.pedestal->center).head<2>().norm();
+        if (t > 0.0 && rho <= s.pedestal->radius_m && (!mesh_t || t < *mesh_t)) {
+          Rgb albedo = s.pedestal->color;
+          if (rho > 0.97 * s.pedestal->radius_m)
+            for (auto& ch : albedo) ch = static_cast<std::uint8_t>(ch / 2);
+          paint(albedo, std::abs(dir.z()), t);
         }
       }
       std::copy(c.begin(), c.end(), img.rgb.begin() + static_cast<std::ptrdiff_t>(3 * k));
