@@ -113,6 +113,20 @@ TEST_CASE("noiseless poses recover X and T_WT to 1e-9", "[calibration][hand_eye]
     }
 }
 
+TEST_CASE("three poses suffice; a pair turning by ≈ 180° is left out of R_X", "[calibration][hand_eye]") {
+  Data d;  // pairs (0, 1) and (1, 2) turn by ≈ 90° about different axes, pair (0, 2) by 175°
+  for (const Pose& T_WF : {pose_of(Vec3::Zero(), Vec3(0.5, 0.0, 0.4)),
+                           pose_of(Vec3(std::numbers::pi / 2, 0.0, 0.0), Vec3(0.45, 0.05, 0.42)),
+                           pose_of(175.0 * kDeg * Vec3(1.0, 0.3, 0.0).normalized(), Vec3(0.52, -0.04, 0.38))}) {
+    d.flange.push_back(T_WF);
+    d.target.push_back((T_WF * kX).inverse(Eigen::Isometry) * kT_WT);
+  }
+  const nbs::HandEyeResult r = nbs::calibrate_hand_eye(d.flange, d.target);
+  CHECK(r.pairs == 2);
+  CHECK((r.T_FS_closed_form.matrix() - kX.matrix()).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK((r.T_FS.matrix() - kX.matrix()).cwiseAbs().maxCoeff() < 1e-9);
+}
+
 TEST_CASE("with noise the estimate is within tolerance and the refinement beats the closed form",
           "[calibration][hand_eye]") {
   // Target measured with 0.2 mm and 0.05° per component, flange reported with 0.1 mm and 0.02°; 12 poses.

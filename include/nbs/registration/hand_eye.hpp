@@ -20,14 +20,15 @@
 ///    π is ambiguous). Translation: (R_A − I) t_X = R_X t_B − t_A stacked over all pairs, linear least squares.
 ///    T_WT: the chordal mean of the rotations and the mean of the translations of T_WF_i · X · T_ST_i.
 /// 2. Refinement, Levenberg–Marquardt on the 12 parameters of X and T_WT (rotations perturbed on the right,
-///    translations added; central-difference Jacobian). It minimises the target-measurement residual
-///     Σ_i |log(R_P_i · R_ST_iᵀ)|² / σ_r² + |t_P_i − t_ST_i|² / σ_t²,   P_i = X⁻¹ · T_WF_i⁻¹ · T_WT
-///    (P_i the target pose predicted in the sensor frame; both terms in the sensor frame), i.e. the maximum
-///    likelihood estimate when the flange poses are exact and the target measurements carry isotropic Gaussian
-///    noise σ_r (rad) and σ_t (m). Only steps that lower this cost are taken, so it never ends above the closed form.
+///    translations added; central-difference Jacobian). Residual of pose i, in the sensor frame:
+///     r_i = (log(R_P_i · R_ST_iᵀ), t_P_i − t_ST_i),   P_i = X⁻¹ · T_WF_i⁻¹ · T_WT
+///    (P_i the target pose predicted from the flange pose). Minimised: Σ_i r_iᵀ Σ_i⁻¹ r_i, where Σ_i is the
+///    covariance of the target measurement (σ_r, σ_t) plus the flange-pose noise (σ_fr, σ_ft) propagated through
+///    r_i at the closed-form estimate (first-order errors-in-variables; fixed during the iterations). Only steps
+///    that lower this cost are taken, so it never ends above the closed form's.
 ///
 /// Degeneracy. X is determined only if the relative flange rotations turn about at least two non-parallel axes.
-/// With α_k the rotation vectors of all P pairs stacked as rows and s1 ≥ s2 ≥ s3 their singular values, the set is
+/// With α_k the rotation vectors of the P pairs that enter R_X stacked as rows and s1 ≥ s2 ≥ s3 their singular values, the set is
 /// refused when s2 / √P (the RMS rotation off the dominant axis, rad) is below `min_rotation_spread_rad`; the
 /// message names the dominant axis (flange frame) — or, if even the RMS rotation angle is below it, says the
 /// rotations are too small.
@@ -295,17 +296,20 @@ inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std:
       const Pose A = flange_poses[j].inverse(Eigen::Isometry) * flange_poses[i];
       const Pose B = target_poses[j] * target_poses[i].inverse(Eigen::Isometry);
       const Vec3 alpha = detail::rotation_log(A.linear()), beta = detail::rotation_log(B.linear());
-      axes.row(static_cast<Eigen::Index>(As.size())) = alpha.transpose();
       if (std::max(alpha.norm(), beta.norm()) <= std::numbers::pi - 0.2) {
         M += beta * alpha.transpose();
-        ++out.pairs;
+        axes.row(static_cast<Eigen::Index>(out.pairs++)) = alpha.transpose();
       }
       As.push_back(A), Bs.push_back(B);
     }
 
-  // Degeneracy: the relative rotations must turn about two non-parallel axes.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> axes_svd(axes, Eigen::ComputeThinV);
-  const Vec3 s = axes_svd.singularValues() / std::sqrt(static_cast<double>(pair_count));
+  // Degeneracy: the relative rotations that enter R_X must turn about two non-parallel axes.
+  detail::require(out.pairs >= 2, "calibrate_hand_eye: only ", out.pairs, " of ", pair_count,
+                  " pose pairs turn by less than π − 0.2 rad (larger relative rotations are not used for R_X)");
+  const Eigen::JacobiSVD<Eigen::MatrixXd> axes_svd(axes.topRows(static_cast<Eigen::Index>(out.pairs)),
+                                                   Eigen::ComputeThinV);
+  Vec3 s = Vec3::Zero();  // s1 ≥ s2 ≥ s3 / √P (fewer than 3 singular values when P = 2)
+  s.head(axes_svd.singularValues().size()) = axes_svd.singularValues() / std::sqrt(static_cast<double>(out.pairs));
   out.rotation_spread_rad = s(1);
   detail::require(s.norm() >= setting.min_rotation_spread_rad,
                   "calibrate_hand_eye: the relative flange rotations are too small to determine X (RMS angle ",
@@ -315,8 +319,6 @@ inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std:
                   detail::format_axis(axes_svd.matrixV().col(0)), " in the flange frame, so X is not determined (RMS "
                   "rotation off that axis ", s(1), " rad < min_rotation_spread_rad ", setting.min_rotation_spread_rad,
                   "); rotate the flange about a second axis too");
-  detail::require(out.pairs >= 2, "calibrate_hand_eye: only ", out.pairs,
-                  " pose pairs turn by less than π − 0.2 rad (larger relative rotations are not used for R_X)");
 
   // Park & Martin: R_X = (MᵀM)^{-1/2} Mᵀ, the polar factor of Mᵀ; then (R_A − I) t_X = R_X t_B − t_A.
   Pose X = Pose::Identity();
