@@ -24,7 +24,7 @@ using nbs::Vec3;
 
 Pose pose_of(const Vec3& rotation_vector, const Vec3& t) {
   Pose T = Pose::Identity();
-  T.linear() = nbs::detail::rotation_exp(rotation_vector);
+  T.linear() = nbs::detail::hand_eye::rotation_exp(rotation_vector);
   T.translation() = t;
   return T;
 }
@@ -38,7 +38,7 @@ Pose noisy(const Pose& T, double sigma_rad, double sigma_m, const nbs::CounterGa
   const Vec3 nr(gauss(stream, 0), gauss(stream, 1), gauss(stream, 2));
   const Vec3 nt(gauss(stream, 3), gauss(stream, 4), gauss(stream, 5));
   Pose out = T;
-  out.linear() = nbs::detail::rotation_exp(sigma_rad * nr) * T.linear();
+  out.linear() = nbs::detail::hand_eye::rotation_exp(sigma_rad * nr) * T.linear();
   out.translation() += sigma_m * nt;
   return out;
 }

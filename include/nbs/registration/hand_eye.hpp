@@ -109,7 +109,7 @@ struct HandEyeResult {
 
 // ---- implementation -------------------------------------------------------------------------------------------
 
-namespace detail {
+namespace detail::hand_eye {
 
 /// Rotation vector (axis · angle, angle in [0, π]) of R.
 [[nodiscard]] inline Vec3 rotation_log(const Mat3& R) {
@@ -269,7 +269,7 @@ inline int refine_hand_eye(HandEyeState& s, const HandEyeProblem& problem, int m
   return it;
 }
 
-}  // namespace detail
+}  // namespace detail::hand_eye
 
 inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std::span<const Pose> target_poses,
                                         const HandEyeSetting& setting) {
@@ -295,7 +295,7 @@ inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std:
     for (std::size_t i = 0; i < j; ++i) {
       const Pose A = flange_poses[j].inverse(Eigen::Isometry) * flange_poses[i];
       const Pose B = target_poses[j] * target_poses[i].inverse(Eigen::Isometry);
-      const Vec3 alpha = detail::rotation_log(A.linear()), beta = detail::rotation_log(B.linear());
+      const Vec3 alpha = detail::hand_eye::rotation_log(A.linear()), beta = detail::hand_eye::rotation_log(B.linear());
       if (std::max(alpha.norm(), beta.norm()) <= std::numbers::pi - 0.2) {
         M += beta * alpha.transpose();
         axes.row(static_cast<Eigen::Index>(out.pairs++)) = alpha.transpose();
@@ -316,13 +316,13 @@ inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std:
                   s.norm(), " rad < min_rotation_spread_rad ", setting.min_rotation_spread_rad, ")");
   detail::require(s(1) >= setting.min_rotation_spread_rad,
                   "calibrate_hand_eye: all relative flange rotations are about one axis, ",
-                  detail::format_axis(axes_svd.matrixV().col(0)), " in the flange frame, so X is not determined (RMS "
+                  detail::hand_eye::format_axis(axes_svd.matrixV().col(0)), " in the flange frame, so X is not determined (RMS "
                   "rotation off that axis ", s(1), " rad < min_rotation_spread_rad ", setting.min_rotation_spread_rad,
                   "); rotate the flange about a second axis too");
 
   // Park & Martin: R_X = (MᵀM)^{-1/2} Mᵀ, the polar factor of Mᵀ; then (R_A − I) t_X = R_X t_B − t_A.
   Pose X = Pose::Identity();
-  X.linear() = detail::nearest_rotation(M.transpose());
+  X.linear() = detail::hand_eye::nearest_rotation(M.transpose());
   Eigen::VectorXd d(C.rows());
   for (std::size_t k = 0; k < pair_count; ++k) {
     const auto row = static_cast<Eigen::Index>(3 * k);
@@ -340,15 +340,15 @@ inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std:
     translation_sum += T_WT_i.translation();
   }
   Pose T_WT = Pose::Identity();
-  T_WT.linear() = detail::nearest_rotation(rotation_sum);
+  T_WT.linear() = detail::hand_eye::nearest_rotation(rotation_sum);
   T_WT.translation() = translation_sum / static_cast<double>(n);
 
-  detail::HandEyeState state{X, T_WT};
-  const detail::HandEyeProblem problem(flange_poses, target_poses, setting, state);
+  detail::hand_eye::HandEyeState state{X, T_WT};
+  const detail::hand_eye::HandEyeProblem problem(flange_poses, target_poses, setting, state);
   out.T_FS_closed_form = X;
   out.T_WT_closed_form = T_WT;
   out.closed_form = problem.fit(state);
-  out.iterations = detail::refine_hand_eye(state, problem, setting.max_iterations);
+  out.iterations = detail::hand_eye::refine_hand_eye(state, problem, setting.max_iterations);
   out.T_FS = state.X;
   out.T_WT = state.T_WT;
   out.refined = problem.fit(state);
