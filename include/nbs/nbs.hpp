@@ -74,6 +74,10 @@
 #include "nbs/mesh/streaming_mesh_settings.hpp"
 #include "nbs/mesh/surface_features.hpp"
 
+#include "nbs/registration/hand_eye.hpp"
+#include "nbs/registration/icp.hpp"
+#include "nbs/registration/registration.hpp"
+#include "nbs/registration/selectable_registration.hpp"
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"

@@ -25,6 +25,7 @@
 #include "nbs/planner/search_policy.hpp"
 #include "nbs/planner/utility_policy.hpp"
 #include "nbs/core/detail/random.hpp"
+#include "nbs/registration/registration.hpp"
 
 namespace nbs {
 
@@ -57,11 +58,11 @@ concept SpaceTrackingCollisionChecker = CollisionChecker<C> && requires(C& c, co
 
 /// Every policy of NbsPlanner, checked once at the class (each concept names what its policy lacks).
 template <class Utility, class Search, class Sensor, class Collision, class Termination, class Space, class Mesh,
-          class Coverage>
+          class Coverage, class Registration>
 concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&
                           UtilityPolicy<Utility, Space, Sensor> && TerminationCriterion<Termination> &&
                           CollisionChecker<Collision> && PlannerSensor<Sensor> &&
-                          CoverageEstimator<Coverage, Mesh, Space>;
+                          CoverageEstimator<Coverage, Mesh, Space> && RegistrationPolicy<Registration, Mesh>;
 
 /// The composed Next-Best-Scan planner. Policies, in the order users change them (defaults = the thesis's best
 /// method C_H, Tab. 4.5, with nbs's noise-robust mesh and ĉ_m):
@@ -74,12 +75,14 @@ concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSea
 /// - `Space`: voxel space owned by the planner (VoxelSpace, space/concepts.hpp);
 /// - `Mesh`: surface mesh owned by the planner (PlannerMesh; NoiseRobustStreamingMesh, or StreamingMesh for the
 ///   thesis's Sec. 3.3.1);
-/// - `Coverage`: the ĉ_m form (CoverageEstimator, public member `coverage`; ThesisCoverage for Eq. 4.35 as written).
+/// - `Coverage`: the ĉ_m form (CoverageEstimator, public member `coverage`; ThesisCoverage for Eq. 4.35 as written);
+/// - `Registration`: the registration step before each scan is integrated (RegistrationPolicy, public member
+///   `registration`; NoRegistration for exact poses, Icp for a robot's pose error, Sec. 3.2.3).
 template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler,
           class Collision = NoCollisions, class Termination = DefaultTermination,
           class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh,
-          class Coverage = UnseenLoopCoverage>
-  requires PlannerPolicies<Utility, Search, Sensor, Collision, Termination, Space, Mesh, Coverage>
+          class Coverage = UnseenLoopCoverage, class Registration = NoRegistration>
+  requires PlannerPolicies<Utility, Search, Sensor, Collision, Termination, Space, Mesh, Coverage, Registration>
 class NbsPlanner {
 public:
   using SpaceType = Space;
@@ -123,17 +126,32 @@ public:
   Termination termination;
   Collision collision;
   Coverage coverage{};
+  Registration registration{};
 
   // ---- The loop ----------------------------------------------------------------------------------------------------
-  /// Integrates one scan (Fig. 4.1): voxel space, mesh, surface features of the voxels touched by M_cur (Sec. 4.5.1),
+  /// Integrates one scan (Fig. 4.1): registration (the Registration policy, Sec. 3.2.3; a correction moves the whole
+  /// scan, a refusal leaves it as measured, both reported), voxel space, mesh, surface features of the voxels touched by M_cur (Sec. 4.5.1),
   /// ĉ_m (the Coverage policy, Eq. 4.35), d̄_m, process control (Eq. 4.38). Counts the scan (n_s) even if none of its
   /// points lies inside the bounding box of the unknown area (status says so; the models are then unchanged). Throws
   /// InvalidArgument (nothing changed) for an invalid scan; if the space's integrate throws (e.g. FileError for an
   /// unreadable flushed block), the scan count, mesh and next plan are unchanged.
-  IntegrationReport integrate(const Scan& scan) {
+  IntegrationReport integrate(const Scan& scan_in) {
     const auto t0 = std::chrono::steady_clock::now();
-    scan.validate();
+    scan_in.validate();
     IntegrationReport r;
+    // Registration (Sec. 3.2.3) before anything changes: the policy corrects the whole scan or refuses; a refused
+    // scan is integrated as measured.
+    Scan corrected;
+    const Scan* registered = &scan_in;
+    if (!scan_in.empty()) {
+      r.registration = registration.register_scan(scan_in, std::as_const(*mesh_));
+      if (r.registration.applied()) {
+        corrected = transformed(scan_in, r.registration.correction);
+        registered = &corrected;
+      }
+    }
+    const Scan& scan = *registered;
+    r.t_registration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.points = scan.size();
     for (const Vec3& p : scan.points) r.points_inside += box_.contains(p) ? 1 : 0;
     if (scan.empty()) {

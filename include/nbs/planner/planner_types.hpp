@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "nbs/planner/detail/components.hpp"
+#include "nbs/registration/registration.hpp"
 
 namespace nbs {
 
@@ -66,7 +67,9 @@ struct IntegrationReport {
   SearchMode mode = SearchMode::BoundarySearch;  ///< mode for the next planning step
   bool switched = false;              ///< this scan switched BS → HR (Eq. 4.38)
   bool done = false;                  ///< the termination criterion holds now
-  double t_integrate_s = 0.0;         ///< wall-clock time of integrate(), seconds: the four parts below + input checks
+  RegistrationResult registration{};  ///< the registration step (status not_run with NoRegistration)
+  double t_integrate_s = 0.0;         ///< wall-clock time of integrate(), seconds: the parts below + input checks
+  double t_registration_s = 0.0;      ///< of it: input check and registration (Sec. 3.2.3)
   double t_space_s = 0.0;             ///< of it: voxel space update (Sec. 3.3.2)
   double t_mesh_s = 0.0;              ///< of it: mesh update (Sec. 3.3.1)
   double t_features_s = 0.0;          ///< of it: surface features (Sec. 4.5.1)

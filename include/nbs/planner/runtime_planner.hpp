@@ -21,6 +21,7 @@
 #include <variant>
 
 #include "nbs/planner/nbs_planner.hpp"
+#include "nbs/registration/selectable_registration.hpp"
 
 namespace nbs {
 
@@ -85,7 +86,8 @@ using RuntimeSearch = std::conditional_t<S == SearchSpace::sphere, SphereSpace,
                                          std::conditional_t<S == SearchSpace::boundary, BoundarySpace, BoundaryHoleSpace>>;
 template <SearchSpace S>
 using RuntimePlannerOf = NbsPlanner<SelectionUtility, RuntimeSearch<S>, LaserStripeProfiler, NoCollisions,
-                                    DefaultTermination, ProbabilisticVoxelSpace<>, StreamingMesh, SelectableCoverage>;
+                                    DefaultTermination, ProbabilisticVoxelSpace<>, StreamingMesh, SelectableCoverage,
+                                    SelectableRegistration>;
 
 /// The choices that are policy types in NbsPlanner but run-time values in the facade: the mesh's settings and the
 /// form of ĉ_m. Default: NbsPlanner<>'s (NoiseRobustStreamingMesh, UnseenLoopCoverage with the enclosure test).
@@ -99,6 +101,10 @@ struct RuntimeModels {
   CoverageEstimate coverage_estimate = CoverageEstimate::unseen_open;
   /// The thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4) together: the unseen forms are meaningless on the layered mesh.
   [[nodiscard]] static RuntimeModels thesis() { return {false, CoverageEstimate::thesis}; }
+  /// The registration step before each scan is integrated (SelectableRegistration): none (exact poses) or the
+  /// thesis's ICP (Sec. 3.2.3) with `icp`.
+  RegistrationMethod registration = RegistrationMethod::none;
+  IcpSetting icp{};
   /// The StreamingMesh settings of this choice over `box` (the pass-through box): StreamingMeshSettings::from, made
   /// noise-robust (NoiseRobustStreamingMesh::robust) if noise_robust_mesh. Throws InvalidArgument for bad params.
   [[nodiscard]] StreamingMeshSettings mesh_settings(const Parameters& params, const Aabb& box) const {
@@ -174,6 +180,7 @@ private:
     auto& p = std::get<RuntimePlannerOf<S>>(v);
     p.utility.setting.selection = sel;
     p.coverage.setting.form = models.coverage_estimate;
+    p.registration = SelectableRegistration{models.registration, models.icp};
     return v;
   }
   static Variant make(const Method& m, const Parameters& params, const LaserStripeProfiler& sensor, const Aabb& box,
