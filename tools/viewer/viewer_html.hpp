@@ -20,7 +20,8 @@ inline constexpr std::string_view kViewerHtml = R"nbsviewer(<!doctype html>
   html, body { margin: 0; height: 100%; background: #1b1f24; color: #d8dde3; font: 13px/1.4 sans-serif; }
   #view { position: absolute; left: 0; top: 0; bottom: 0; right: 360px; overflow: hidden; }
   #view canvas { display: block; }
-  #side { position: absolute; right: 0; top: 0; bottom: 0; width: 344px; padding: 8px; overflow-y: auto;
+  #side { position: absolute; right: 0; top: 0; bottom: 0; width: 360px; padding: 8px; overflow-y: auto;
+          box-sizing: border-box; overflow-x: hidden;
           background: #262b32; border-left: 1px solid #3a414b; }
   h1 { font-size: 15px; margin: 0 0 6px; }
   #slider { width: 100%; }
@@ -128,7 +129,7 @@ async function inflate(b64) {
   return new Uint8Array(await new Response(stream).arrayBuffer());
 }
 const buf = await inflate($('nbs-data').textContent);
-const arrays = { u8: Uint8Array, u16: Uint16Array, u32: Uint32Array, f32: Float32Array };
+const arrays = { u8: Uint8Array, u16: Uint16Array, u32: Uint32Array, i32: Int32Array, f32: Float32Array };
 const get = (name) => {
   const t = meta.buffers[name];
   return t ? new arrays[t.type](buf.buffer, t.offset, t.count) : null;
@@ -142,7 +143,16 @@ const dequantise = (q) => {
   }
   return out;
 };
-const faceFirst = get('face_first'), faceLast = get('face_last'), meshIndex = get('mesh_index');
+// mesh_position: per axis the difference to the previous vertex (mod 2^16); mesh_index: per face a - previous a,
+// b - a, c - a (docs/internals.md, "The session viewer")
+const undelta = (q) => { for (let i = 3; i < q.length; ++i) q[i] = (q[i] + q[i - 3]) & 0xffff; return q; };
+const faceFirst = get('face_first'), faceLast = get('face_last');
+const meshIndex = (() => {
+  const d = get('mesh_index'), out = new Uint32Array(d.length);
+  let a = 0;
+  for (let i = 0; i < d.length; i += 3) { a += d[i]; out[i] = a; out[i + 1] = a + d[i + 1]; out[i + 2] = a + d[i + 2]; }
+  return out;
+})();
 
 // ---- three.js -------------------------------------------------------------------------------------------------
 let setScan = (k) => {  // replaced below once three.js is loaded
@@ -176,7 +186,7 @@ if (THREE) {
   const U = meta.unknown_area;
   const target = new THREE.Vector3((U.min[0] + U.max[0]) / 2, (U.min[1] + U.max[1]) / 2, (U.min[2] + U.max[2]) / 2);
   const radius = 0.5 * Math.hypot(U.max[0] - U.min[0], U.max[1] - U.min[1], U.max[2] - U.min[2]);
-  const orbit = { az: -2.1, el: 0.45, dist: 1.5 * radius / Math.sin(THREE.MathUtils.degToRad(20)) };
+  const orbit = { az: -2.1, el: 0.45, dist: 2.4 * radius / Math.sin(THREE.MathUtils.degToRad(20)) };
   const place = () => {
     const c = Math.cos(orbit.el);
     camera.position.set(target.x + orbit.dist * c * Math.cos(orbit.az), target.y + orbit.dist * c * Math.sin(orbit.az),
@@ -191,7 +201,7 @@ if (THREE) {
   };
 
   // pedestal grid (z = 0), unknown area
-  const grid = new THREE.GridHelper(0.6, 12, 0x59616b, 0x3a414b);
+  const grid = new THREE.GridHelper(1.0, 20, 0x59616b, 0x3a414b);
   grid.rotation.x = Math.PI / 2;
   grid.position.set(target.x, target.y, 0);
   scene.add(grid);
@@ -200,7 +210,7 @@ if (THREE) {
 
   // the model: every face record, the index rebuilt per scan from [first, last]
   const geom = new THREE.BufferGeometry();
-  geom.setAttribute('position', new THREE.BufferAttribute(dequantise(get('mesh_position')), 3));
+  geom.setAttribute('position', new THREE.BufferAttribute(dequantise(undelta(get('mesh_position'))), 3));
   const mesh = new THREE.Mesh(geom, new THREE.MeshStandardMaterial({ color: 0xd9c7a3, roughness: 0.85,
                                                                      metalness: 0.0, side: THREE.DoubleSide }));
   scene.add(mesh);

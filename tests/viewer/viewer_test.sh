@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# CTest viewer.browser: a short `nbs_model --viewer` run (2 scans, no PNG pictures, 2 threads), then headless
+# Chromium (WebGL on SwiftShader, no GPU, no network: the page is opened from file://) screenshots the page at
+# #scan=1 and at the last scan, and check_screenshot checks that the object's screen region shows the mesh and that
+# the slider (the page reads #scan=K through the slider's input handler) changes the picture.
+# Usage: viewer_test.sh NBS_MODEL CHECK_SCREENSHOT CHROMIUM WORKDIR. Exits 77 (skipped) without Chromium or
+# three.js (scripts/install-deps.sh --with-browser, scripts/install-viewer.sh).
+set -euo pipefail
+model=$1 check=$2 chromium=$3 work=$4
+if [[ -z $chromium || $chromium == *NOTFOUND* || ! -x $chromium ]]; then
+  echo "SKIP: Chromium not found at configure time (scripts/install-deps.sh --with-browser)"; exit 77
+fi
+rm -rf "$work" && mkdir -p "$work"
+scans=2
+"$model" --scans $scans --no-images --threads 2 --viewer --out "$work/out" > "$work/nbs_model.log"
+grep '^viewer' "$work/nbs_model.log"
+page=$work/out/viewer/index.html
+[[ -s $page ]] || { echo "FAIL: $page not written"; exit 1; }
+if ! grep -q 'three.js inlined' "$work/nbs_model.log"; then
+  echo "SKIP: three.js not installed (scripts/install-viewer.sh); the page was written with the hint"; exit 77
+fi
+shot() {  # fragment, png
+  # --no-sandbox: CI runs as root; --enable-unsafe-swiftshader --use-angle=swiftshader: WebGL without a GPU;
+  # --virtual-time-budget: the page's async work (inflate, module import, first frame) finishes before the shot.
+  timeout 40 "$chromium" --headless=new --no-sandbox --disable-gpu --enable-unsafe-swiftshader \
+    --use-angle=swiftshader --no-first-run --no-default-browser-check --user-data-dir="$work/profile" \
+    --window-size=800,600 --virtual-time-budget=15000 --screenshot="$2" "file://$page#$1" > "$work/chromium.log" 2>&1 ||
+    { cat "$work/chromium.log"; echo "FAIL: chromium"; exit 1; }
+  [[ -s $2 ]] || { cat "$work/chromium.log"; echo "FAIL: no screenshot $2"; exit 1; }
+}
+shot "scan=$scans&cand=0" "$work/last.png"
+shot "scan=1&cand=0" "$work/first.png"
+# The 3D view is the left 440 of the 800 pixels (the side panel is 360 wide); the object is framed in its middle:
+# x 15 %..40 %, y 25 %..75 % of the window.
+"$check" "$work/last.png" "$work/first.png" 0.15 0.25 0.40 0.75 0.15 0.03
