@@ -32,7 +32,7 @@
 #include "nbs/io/color.hpp"
 #include "nbs/io/detail/file_bytes.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
-#include "nbs/mesh/streaming_mesh.hpp"
+#include "nbs/mesh/mesh_concept.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 
 #include "viewer/viewer_html.hpp"
@@ -72,8 +72,10 @@ inline constexpr std::string_view kThreeVersion = "0.170.0";
 /// face exists. Vertex ids are the StreamingMesh's (it only appends vertices).
 class SessionRecorder {
  public:
-  /// Call after the scan along `path` was integrated into `mesh` (scans are counted from 1).
-  void add_scan(const StreamingMesh& mesh, const LinearScanPath& path) {
+  /// Call after the scan along `path` was integrated into `mesh` (scans are counted from 1). `mesh` only appends
+  /// vertices (vertex ids stay), as StreamingMesh does.
+  template <EdgeMesh M>
+  void add_scan(const M& mesh, const LinearScanPath& path) {
     ++scans_;
     paths_.push_back(path);
     std::vector<char> seen(faces_.size(), 0);
