@@ -21,7 +21,9 @@ namespace {
 struct Image {
   int w = 0, h = 0;
   std::vector<std::uint8_t> rgb;
-  [[nodiscard]] const std::uint8_t* at(int x, int y) const { return &rgb[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))]; }
+  [[nodiscard]] const std::uint8_t* at(int x, int y) const {
+    return &rgb[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
+  }
 };
 
 bool read_png(const char* path, Image& img) {
@@ -71,7 +73,8 @@ int main(int argc, char** argv) {
   const auto key = [](const std::uint8_t* p) { return std::uint32_t(p[0]) << 16 | std::uint32_t(p[1]) << 8 | p[2]; };
   for (int x = x0; x < x1; ++x) ++hist[key(a.at(x, y0))], ++hist[key(a.at(x, y1 - 1))];
   for (int y = y0; y < y1; ++y) ++hist[key(a.at(x0, y))], ++hist[key(a.at(x1 - 1, y))];
-  const std::uint32_t bg = std::max_element(hist.begin(), hist.end(), [](auto& l, auto& r) { return l.second < r.second; })->first;
+  const auto most = [](const auto& l, const auto& r) { return l.second < r.second; };
+  const std::uint32_t bg = std::max_element(hist.begin(), hist.end(), most)->first;
   const std::uint8_t bgc[3] = {std::uint8_t(bg >> 16), std::uint8_t(bg >> 8), std::uint8_t(bg)};
   std::size_t filled = 0, changed = 0, n = 0;
   for (int y = y0; y < y1; ++y)

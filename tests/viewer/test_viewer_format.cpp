@@ -68,7 +68,8 @@ std::vector<T> section(const std::string& buf, const nlohmann::json& table, cons
 }
 
 nbs::LinearScanPath path_at(double x) {
-  return nbs::LinearScanPath(nbs::Viewpoint::look_at(nbs::Vec3(x, -0.3, 0.2), nbs::Vec3(x, 0, 0.05), nbs::Vec3::UnitZ()),
+  using nbs::Vec3;
+  return nbs::LinearScanPath(nbs::Viewpoint::look_at(Vec3(x, -0.3, 0.2), Vec3(x, 0, 0.05), Vec3::UnitZ()),
                              nbs::Vec3(x + 0.1, -0.3, 0.2));
 }
 
@@ -112,7 +113,8 @@ TEST_CASE("viewer format: face records reproduce the mesh of every scan", "[view
   CHECK(meta.at("scans") == 4);
   const auto& tb = meta.at("buffers");
   std::size_t raw = 0;
-  for (const auto& [name, t] : tb.items()) raw = std::max<std::size_t>(raw, t.at("offset").get<std::size_t>() + 4 * t.at("count").get<std::size_t>());
+  for (const auto& [name, t] : tb.items())  // an upper bound: 4 bytes per element
+    raw = std::max<std::size_t>(raw, t.at("offset").get<std::size_t>() + 4 * t.at("count").get<std::size_t>());
   const std::string buf = inflate(unbase64(element(html, "nbs-data")), raw);
 
   // vertices: per-axis deltas mod 2^16, quantised in meta.box
@@ -161,6 +163,7 @@ TEST_CASE("viewer format: face records reproduce the mesh of every scan", "[view
   const auto rgb = section<std::uint8_t>(buf, tb, "cand_rgb");
   const nbs::Rgb best = nbs::utility_color(1.0), worst = nbs::utility_color(0.0);
   CHECK(std::vector<std::uint8_t>(rgb.begin(), rgb.begin() + 3) == std::vector<std::uint8_t>(best.begin(), best.end()));
-  CHECK(std::vector<std::uint8_t>(rgb.begin() + 3, rgb.begin() + 6) == std::vector<std::uint8_t>(worst.begin(), worst.end()));
+  CHECK(std::vector<std::uint8_t>(rgb.begin() + 3, rgb.begin() + 6) ==
+        std::vector<std::uint8_t>(worst.begin(), worst.end()));
   std::filesystem::remove_all(dir);
 }
