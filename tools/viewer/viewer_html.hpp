@@ -26,7 +26,8 @@ inline constexpr std::string_view kViewerHtml = R"nbsviewer(<!doctype html>
   h1 { font-size: 15px; margin: 0 0 6px; }
   #slider { width: 100%; }
   .row { display: flex; flex-wrap: wrap; gap: 2px 12px; margin: 6px 0; }
-  #msg { position: absolute; left: 20px; top: 20px; right: 20px; color: #ffb86b; font-size: 15px; white-space: pre-wrap; }
+  #msg { position: absolute; left: 20px; top: 20px; right: 20px; color: #ffb86b; font-size: 15px;
+         white-space: pre-wrap; }
   #info, #status { font-family: monospace; font-size: 12px; white-space: pre-wrap; }
   svg text { fill: #c5ccd4; font: 10px sans-serif; }
   .legend span { display: inline-block; width: 10px; height: 3px; vertical-align: middle; margin: 0 3px 0 8px; }
@@ -205,7 +206,8 @@ if (THREE) {
   grid.rotation.x = Math.PI / 2;
   grid.position.set(target.x, target.y, 0);
   scene.add(grid);
-  const boxHelper = new THREE.Box3Helper(new THREE.Box3(new THREE.Vector3(...U.min), new THREE.Vector3(...U.max)), 0x6b7480);
+  const unknownBox = new THREE.Box3(new THREE.Vector3(...U.min), new THREE.Vector3(...U.max));
+  const boxHelper = new THREE.Box3Helper(unknownBox, 0x6b7480);
   scene.add(boxHelper);
 
   // the model: every face record, the index rebuilt per scan from [first, last]
