@@ -45,6 +45,7 @@
 
 #include "common/data_dir.hpp"
 #include "common/options.hpp"
+#include "viewer/write_viewer.hpp"
 
 namespace {
 
@@ -61,6 +62,7 @@ struct Options {
   bool images = true;
   bool initial_only = false;
   bool thesis_mesh = false;
+  bool viewer = false;
 };
 
 /// The command line (tools/common/options.hpp: the shared options, --help, exit 2 on a bad value).
@@ -85,6 +87,8 @@ void add_options(CLI::App& app, Options& o) {
   app.add_flag("--thesis-mesh", o.thesis_mesh,
                "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust mesh "
                "and the unseen_open estimate");
+  app.add_flag("--viewer", o.viewer,
+               "also write DIR/viewer/index.html: the session in 3D (mesh per scan, paths, candidates), offline");
   tools::add_config(app);
   app.footer("The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
              "DIR/view_NN.png, DIR/final.png and DIR/report.json.");
@@ -251,6 +255,8 @@ int run(const Options& opt) {
   double t_render = 0.0;
 
   TruthTracker gt(truth);
+  std::optional<tools::viewer::SessionRecorder> viewer;  // --viewer (tools/viewer/write_viewer.hpp)
+  if (opt.viewer) viewer.emplace();
   std::vector<Row> rows;
   double l_s = 0.0;
   const auto execute = [&](const LinearScanPath& path, const IterationStats& plan, std::size_t candidates,
@@ -260,6 +266,7 @@ int run(const Options& opt) {
     const IntegrationReport rep = planner.integrate(scan);
     l_s += path.length();
     gt.update(planner.mesh());
+    if (viewer) viewer->add_scan(planner.mesh(), path);
     const Completeness c = gt.coverage.completeness();
     Row r{static_cast<int>(i) + 1, std::string(to_string(plan.mode)), rep.estimated_coverage, rep.mean_density,
           c.c_a(), c.c_b(), gt.rms_m(), l_s, plan.t_nbs_s, candidates, scan.size(), gt.vertices, utility};
@@ -311,6 +318,7 @@ int run(const Options& opt) {
         planner.variant());
     const int n = static_cast<int>(rows.size()) + 1;
     write_candidates_ply(file(opt, numbered("candidates", n, "ply")), paths, utility);
+    if (viewer) viewer->add_candidates(n, paths, utility);
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
       write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, paths, utility,
@@ -389,6 +397,7 @@ int run(const Options& opt) {
   fi["mesh_triangles"] = model.triangles.size();
   fi["runtime_s"] = runtime;
   nbs::write_json(file(opt, "report.json"), js);
+  if (viewer) tools::viewer::write_viewer(*viewer, opt.out, {unknown, &mesh, 20000, &planner.space(), 4'000'000, js});
   return 0;
 }
 

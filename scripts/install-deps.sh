@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
-# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz] [--with-docs]
+# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz] [--with-docs] [--with-browser] [--with-npm]
 #   --with-plots  adds python3-matplotlib for benchmarks/plots
 #   --with-fuzz   adds clang and libFuzzer for scripts/fuzz.sh
 #   --with-docs   adds doxygen and graphviz for scripts/docs.sh
+#   --with-browser adds chromium for the session viewer's browser test (tests/viewer)
+#   --with-npm    adds npm for scripts/install-viewer.sh (three.js)
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -17,6 +19,8 @@ for arg in "$@"; do
     --with-plots) packages+=(python3-matplotlib python3-numpy) ;;
     --with-fuzz) packages+=(clang libclang-rt-dev) ;;
     --with-docs) packages+=(doxygen graphviz) ;;
+    --with-browser) packages+=(chromium) ;;
+    --with-npm) packages+=(npm) ;;
     *) echo "install-deps: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done

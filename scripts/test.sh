@@ -7,11 +7,14 @@
 # then checks the installed package (scripts/test-package.sh: relocatable, find_package COMPONENTS with every
 # adapter, errors for missing ones, pkg-config) and finally runs each libFuzzer target for 15 s
 # (scripts/fuzz.sh --quick, clang), and generates the API reference (scripts/docs.sh: Doxygen, no warnings).
+# Chromium (install-deps --with-browser) and three.js (scripts/install-viewer.sh) are for viewer.browser, the
+# session viewer of nbs_model --viewer in headless Chromium (tests/viewer).
 # Prints CTest's summary for each configuration and "ALL TESTS PASSED" at the end; exits non-zero on failure.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-scripts/install-deps.sh
+scripts/install-deps.sh --with-browser
+scripts/install-viewer.sh || echo "test: three.js not installed; viewer.browser will be skipped" >&2
 jobs=${NBS_JOBS:-$(nproc)}
 
 # The tests that run threads (parallel candidate evaluation, parallel ray casts, flushing, the planner loop).
