@@ -67,24 +67,12 @@ struct Options {
 void add_options(CLI::App& app, Options& o) {
   namespace tools = nbs::tools;
   tools::set_conventions(app);
-  tools::add_mesh(app, o.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
-  tools::add_up(app, o.up);
-  tools::add_size(app, o.size_m);
-  tools::add_seed(app, o.seed);
-  tools::add_method(app, o.method);
-  tools::add_sensor(app, o.sensor);
-  app.add_option("--scans", o.scans, "n_abort, hard limit on the number of scans (Tab. 4.3)")
-      ->check(tools::integer_in(1, 1000))
-      ->capture_default_str();
-  app.add_option("--threads", o.threads, "candidate evaluation threads (default: hardware threads); same results")
-      ->check(tools::integer_in(1, 1024));
+  tools::add_object_options(app, o);
+  tools::add_run_options(app, o);
   tools::add_out(app, o.out);
   app.add_flag_callback("--no-images", [&o] { o.images = false; }, "do not write the PNG pictures");
   app.add_flag("--initial-only", o.initial_only,
                "no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply");
-  app.add_flag("--thesis-mesh", o.thesis_mesh,
-               "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust mesh "
-               "and the unseen_open estimate");
   tools::add_config(app);
   app.footer("The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
              "DIR/view_NN.png, DIR/final.png and DIR/report.json.");

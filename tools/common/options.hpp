@@ -152,6 +152,47 @@ inline CLI::Option* add_sensor(CLI::App& app, std::string& name) {
       ->type_name("NAME");
 }
 
+/// `--scans N`: n_abort, the hard limit on the number of scans (Tab. 4.3), 1 to 1000.
+inline CLI::Option* add_scans(CLI::App& app, int& scans) {
+  return app.add_option("--scans", scans, "n_abort, hard limit on the number of scans (Tab. 4.3)")
+      ->check(integer_in(1, 1000))
+      ->capture_default_str();
+}
+
+/// `--threads N`: candidate evaluation threads, 1 to 1024 (results do not depend on it).
+inline CLI::Option* add_threads(CLI::App& app, unsigned& threads) {
+  return app.add_option("--threads", threads, "candidate evaluation threads (default: hardware threads); same results")
+      ->check(integer_in(1, 1024));
+}
+
+/// `--thesis-mesh`: the thesis's mesh and estimated coverage (RuntimeModels::thesis).
+inline CLI::Option* add_thesis_mesh(CLI::App& app, bool& thesis_mesh) {
+  return app.add_flag("--thesis-mesh", thesis_mesh,
+                      "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust "
+                      "mesh and the unseen_open estimate");
+}
+
+/// The object options of the simulating tools (nbs_model, nbs_diagnose): `--mesh --up --size --sensor`, into the
+/// members `mesh`, `up`, `size_m`, `sensor` of `o`.
+template <class O>
+void add_object_options(CLI::App& app, O& o) {
+  add_mesh(app, o.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
+  add_up(app, o.up);
+  add_size(app, o.size_m);
+  add_sensor(app, o.sensor);
+}
+
+/// The options of a planning run (nbs_model, nbs_diagnose, nbs_plan): `--method --seed --scans --threads
+/// --thesis-mesh`, into the members `method`, `seed`, `scans`, `threads`, `thesis_mesh` of `o`.
+template <class O>
+void add_run_options(CLI::App& app, O& o) {
+  add_method(app, o.method);
+  add_seed(app, o.seed);
+  add_scans(app, o.scans);
+  add_threads(app, o.threads);
+  add_thesis_mesh(app, o.thesis_mesh);
+}
+
 /// `--out DIR`: output directory, created if missing.
 inline CLI::Option* add_out(CLI::App& app, std::string& dir) {
   return app.add_option("--out", dir, "output directory, created if missing")->type_name("DIR")->capture_default_str();
