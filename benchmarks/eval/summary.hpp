@@ -58,6 +58,10 @@ struct RunOutcome {
   double path_length_m = 0; ///< l_s over all scans of the run
   double mean_t_nbs_s = 0;  ///< mean NBS selection time of the run's planning steps (0 if none)
   double c_obs = 0;         ///< observability ceiling of the mesh
+  /// With --pose-error / --registration: the run's mean residual pose error over its scans (mm, deg) and its
+  /// double_surface_share.
+  bool pose = false;
+  double mean_pose_t_mm = 0, mean_pose_r_deg = 0, double_surface_share = 0;
 };
 
 /// One row of Tab. 4.5 (plus c_obs and the quartiles).
@@ -66,6 +70,9 @@ struct MethodSummary {
   std::size_t runs = 0;
   double median_scans = 0, q1_scans = 0, q3_scans = 0, notch = 0;
   double mean_ca_at_stop = 0, mean_ca_at_30 = 0, mean_path_length_m = 0, mean_t_nbs_s = 0, mean_c_obs = 0;
+  /// Only when every run has them (RunOutcome::pose): means over the runs.
+  bool pose = false;
+  double mean_pose_t_mm = 0, mean_pose_r_deg = 0, mean_double_surface_share = 0;
 };
 
 /// Summarises the runs of one method. Throws std::invalid_argument if `runs` is empty.
@@ -90,6 +97,12 @@ struct MethodSummary {
   s.mean_path_length_m = mean(column(&RunOutcome::path_length_m));
   s.mean_t_nbs_s = mean(column(&RunOutcome::mean_t_nbs_s));
   s.mean_c_obs = mean(column(&RunOutcome::c_obs));
+  s.pose = std::all_of(runs.begin(), runs.end(), [](const RunOutcome& r) { return r.pose; });
+  if (s.pose) {
+    s.mean_pose_t_mm = mean(column(&RunOutcome::mean_pose_t_mm));
+    s.mean_pose_r_deg = mean(column(&RunOutcome::mean_pose_r_deg));
+    s.mean_double_surface_share = mean(column(&RunOutcome::double_surface_share));
+  }
   return s;
 }
 

@@ -6,6 +6,7 @@
 /// `--help` prints and exits 0; a bad option or value prints `<tool>: <message naming option and value>` and the
 /// hint to `--help` on stderr and exits 2 (kUsageExit); `--config FILE` reads a JSON object whose keys are long
 /// option names without `--` (`{"size": 0.2, "up": "z", "no-images": true}`), the command line wins over the file.
+/// `--pose-error` and `--registration` (nbs_model, nbs_eval) are declared here once as well.
 /// Used by nbs_plan, nbs_model, nbs_diagnose and nbs_eval (whose planner set-up file is `--setup`, and which takes
 /// `--methods LIST` next to `--method`: benchmarks/eval/config.hpp).
 
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -27,7 +29,10 @@
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/mesh/normalize.hpp"
+#include "nbs/core/detail/random.hpp"
 #include "nbs/planner/runtime_planner.hpp"
+#include "nbs/registration/selectable_registration.hpp"
+#include "nbs/sim/pose_error.hpp"
 #include "nbs/sensor/presets.hpp"
 
 namespace nbs::tools {
@@ -191,6 +196,69 @@ void add_run_options(CLI::App& app, O& o) {
   add_scans(app, o.scans);
   add_threads(app, o.threads);
   add_thesis_mesh(app, o.thesis_mesh);
+}
+
+/// `--pose-error T_MM,R_DEG` and `--registration none|icp` (nbs_model, nbs_eval): a simulated robot pose error
+/// (sim/pose_error.hpp) of exactly T_MM millimetres and R_DEG degrees per scan path, and the registration step that
+/// may correct it (RuntimeModels::registration). Neither given: the tools behave as without them, byte for byte.
+struct PoseErrorOptions {
+  std::optional<double> translation_mm, rotation_deg;  ///< both set by --pose-error
+  std::optional<RegistrationMethod> registration;       ///< --registration
+
+  /// Whether either option was given (the tools then report residual pose error and registration per scan).
+  [[nodiscard]] bool active() const { return translation_mm.has_value() || registration.has_value(); }
+
+  /// The error setting of a run with seed `run_seed` (zero error without --pose-error); its seed is derived from
+  /// `run_seed` only, so every method sees the same errors in the same run.
+  [[nodiscard]] PoseErrorSetting setting(std::uint64_t run_seed) const {
+    PoseErrorSetting s;
+    s.translation_m = 1e-3 * translation_mm.value_or(0.0);
+    s.rotation_rad = rotation_deg.value_or(0.0) * std::numbers::pi / 180.0;
+    s.seed = nbs::detail::splitmix64(run_seed ^ 0x504F53454552524FULL);
+    return s;
+  }
+};
+
+/// Adds `--pose-error T_MM,R_DEG` (two finite numbers >= 0; R_DEG <= 180) and `--registration none|icp`.
+inline void add_pose_error_options(CLI::App& app, PoseErrorOptions& o) {
+  app.add_option_function<std::string>(
+         "--pose-error",
+         [&o](const std::string& v) {
+           const auto bad = [&v] {
+             return UsageError("--pose-error",
+                               "expects T_MM,R_DEG (two finite numbers >= 0: millimetres, degrees <= 180), got '" + v + "'");
+           };
+           const std::size_t comma = v.find(',');
+           if (comma == std::string::npos) throw bad();
+           double x[2] = {0.0, 0.0};
+           const std::string part[2] = {v.substr(0, comma), v.substr(comma + 1)};
+           for (int k = 0; k < 2; ++k) {
+             std::size_t used = 0;
+             try {
+               x[k] = std::stod(part[k], &used);
+             } catch (const std::exception&) {
+               used = 0;
+             }
+             if (part[k].empty() || used != part[k].size() || !std::isfinite(x[k]) || !(x[k] >= 0.0)) throw bad();
+           }
+           if (x[1] > 180.0) throw bad();
+           o.translation_mm = x[0];
+           o.rotation_deg = x[1];
+         },
+         "simulated robot pose error per scan path: translation in mm, rotation in degrees (e.g. 1,0.1: the KR16's "
+         "millimetre range, Sec. 5.1.1); default: none")
+      ->type_name("T_MM,R_DEG");
+  app.add_option_function<std::string>(
+         "--registration",
+         [&o](const std::string& v) {
+           try {
+             o.registration = parse_registration_method(v);
+           } catch (const InvalidArgument& e) {
+             throw UsageError("--registration", e.what());
+           }
+         },
+         "registration of each scan before it is integrated (Sec. 3.2.3): none or icp (default none)")
+      ->type_name("none|icp");
 }
 
 /// `--out DIR`: output directory, created if missing.
