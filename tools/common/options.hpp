@@ -72,17 +72,24 @@ inline CLI::Option* add_up(CLI::App& app, UpAxis& up) {
       ->type_name("AXIS");
 }
 
+/// The finite number that is all of `s`, or std::nullopt.
+[[nodiscard]] inline std::optional<double> finite_number(const std::string& s) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used != s.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 /// A finite number > 0 (CLI11 validator naming the value).
 inline const CLI::Validator kPositive(
     [](std::string& s) -> std::string {
-      double v = 0.0;
-      std::size_t used = 0;
-      try {
-        v = std::stod(s, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != s.size() || !(v > 0.0) || !std::isfinite(v)) return "expects a finite number > 0, got '" + s + "'";
+      const std::optional<double> v = finite_number(s);
+      if (!v || !(*v > 0.0)) return "expects a finite number > 0, got '" + s + "'";
       return {};
     },
     "", "positive");
@@ -230,20 +237,10 @@ inline void add_pose_error_options(CLI::App& app, PoseErrorOptions& o) {
            };
            const std::size_t comma = v.find(',');
            if (comma == std::string::npos) throw bad();
-           double x[2] = {0.0, 0.0};
-           const std::string part[2] = {v.substr(0, comma), v.substr(comma + 1)};
-           for (int k = 0; k < 2; ++k) {
-             std::size_t used = 0;
-             try {
-               x[k] = std::stod(part[k], &used);
-             } catch (const std::exception&) {
-               used = 0;
-             }
-             if (part[k].empty() || used != part[k].size() || !std::isfinite(x[k]) || !(x[k] >= 0.0)) throw bad();
-           }
-           if (x[1] > 180.0) throw bad();
-           o.translation_mm = x[0];
-           o.rotation_deg = x[1];
+           const std::optional<double> t = finite_number(v.substr(0, comma)), r = finite_number(v.substr(comma + 1));
+           if (!t || !r || !(*t >= 0.0) || !(*r >= 0.0) || *r > 180.0) throw bad();
+           o.translation_mm = *t;
+           o.rotation_deg = *r;
          },
          "simulated robot pose error per scan path: translation in mm, rotation in degrees (e.g. 1,0.1: the KR16's "
          "millimetre range, Sec. 5.1.1); default: none")
