@@ -402,6 +402,7 @@ int main(int argc, char** argv) {
   tools::set_conventions(app);
   tools::add_object_options(app, opt);
   tools::add_run_options(app, opt);
+  app.get_option("--threads")->description("threads (default 2)");
   app.add_option_function<std::string>(
          "--search",
          [&opt](const std::string& v) {
