@@ -400,13 +400,9 @@ int main(int argc, char** argv) {
   Options opt;
   CLI::App app("nbs_diagnose: the true gain of every candidate next to its utility, step by step", "nbs_diagnose");
   tools::set_conventions(app);
-  tools::add_mesh(app, opt.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
-  tools::add_up(app, opt.up);
-  tools::add_size(app, opt.size_m);
-  tools::add_seed(app, opt.seed);
-  tools::add_method(app, opt.method);
-  tools::add_sensor(app, opt.sensor);
-  app.add_option("--scans", opt.scans, "scans to take")->check(tools::integer_in(1, 1000))->capture_default_str();
+  tools::add_object_options(app, opt);
+  tools::add_run_options(app, opt);
+  app.get_option("--threads")->description("threads (default 2)");
   app.add_option_function<std::string>(
          "--search",
          [&opt](const std::string& v) {
@@ -441,10 +437,8 @@ int main(int argc, char** argv) {
          },
          "utility evaluation strides: every P-th profile, every R-th ray (default 4,4)")
       ->type_name("P,R");
-  app.add_option("--threads", opt.threads, "threads")->check(tools::integer_in(1, 1024))->capture_default_str();
   app.add_option("--hmax", opt.hole_max_edges, "Parameters::hole_max_edges (default: Parameters')")
       ->check(tools::integer_in(1, 1000000));
-  app.add_flag("--thesis-mesh", opt.thesis_mesh, "the thesis's mesh and ĉ_m (RuntimeModels::thesis)");
   tools::add_config(app);
   if (const auto code = tools::parse(app, argc, argv)) return *code;
   try {

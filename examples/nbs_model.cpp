@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -29,6 +30,7 @@
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/embree/render.hpp"
+#include "nbs/driver/pose_error_driver.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/color.hpp"
 #include "nbs/io/load_mesh.hpp"
@@ -63,30 +65,20 @@ struct Options {
   bool initial_only = false;
   bool thesis_mesh = false;
   bool viewer = false;
+  nbs::tools::PoseErrorOptions pose;  ///< --pose-error, --registration
 };
 
 /// The command line (tools/common/options.hpp: the shared options, --help, exit 2 on a bad value).
 void add_options(CLI::App& app, Options& o) {
   namespace tools = nbs::tools;
   tools::set_conventions(app);
-  tools::add_mesh(app, o.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
-  tools::add_up(app, o.up);
-  tools::add_size(app, o.size_m);
-  tools::add_seed(app, o.seed);
-  tools::add_method(app, o.method);
-  tools::add_sensor(app, o.sensor);
-  app.add_option("--scans", o.scans, "n_abort, hard limit on the number of scans (Tab. 4.3)")
-      ->check(tools::integer_in(1, 1000))
-      ->capture_default_str();
-  app.add_option("--threads", o.threads, "candidate evaluation threads (default: hardware threads); same results")
-      ->check(tools::integer_in(1, 1024));
+  tools::add_object_options(app, o);
+  tools::add_run_options(app, o);
+  tools::add_pose_error_options(app, o.pose);
   tools::add_out(app, o.out);
   app.add_flag_callback("--no-images", [&o] { o.images = false; }, "do not write the PNG pictures");
   app.add_flag("--initial-only", o.initial_only,
                "no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply");
-  app.add_flag("--thesis-mesh", o.thesis_mesh,
-               "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust mesh "
-               "and the unseen_open estimate");
   app.add_flag("--viewer", o.viewer,
                "also write DIR/viewer/index.html: the session in 3D (mesh per scan, paths, candidates), offline");
   tools::add_config(app);
@@ -236,7 +228,8 @@ int run(const Options& opt) {
   unknown.min -= Vec3(0.01, 0.01, 0.0);
   unknown.max += Vec3(0.01, 0.01, 0.01);
   PlannerSetting ps;
-  const RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
+  RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
+  if (opt.pose.registration) models.registration = *opt.pose.registration;
   ps.threads = opt.threads;
   ps.seed = opt.seed;
   RuntimePlanner planner(opt.method, params, lsp, unknown, ps, models);
@@ -244,7 +237,11 @@ int run(const Options& opt) {
   std::printf("planner %s, n_abort %d, unknown area %.3f x %.3f x %.3f m, voxel %.1f mm, seed %llu, %u threads\n",
               code.c_str(), params.max_scans, unknown.extent().x(), unknown.extent().y(), unknown.extent().z(),
               1e3 * planner.space().resolution_m(), static_cast<unsigned long long>(opt.seed), opt.threads);
-  std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m\n");
+  std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m%s\n",
+              opt.pose.active() ? "  registration             pose mm  pose deg" : "");
+  // Scan i uses the noise seed splitmix64(seed ^ (0x5CA9 + i)) (SimulatedDriver); the pose error (none without
+  // --pose-error: the scans are then bit-identical) is applied to the reported scan.
+  PoseErrorDriver driver(SimulatedDriver(scanner, planner.sensor(), opt.seed), opt.pose.setting(opt.seed));
 
   // Fixed camera framing the object and the candidate paths (≈ d_s = 0.3 m from the surface).
   Aabb view = unknown;
@@ -262,7 +259,8 @@ int run(const Options& opt) {
   const auto execute = [&](const LinearScanPath& path, const IterationStats& plan, std::size_t candidates,
                            double utility) {
     const std::size_t i = rows.size();
-    const Scan scan = scanner.scan(path, planner.sensor(), nbs::detail::splitmix64(opt.seed ^ (0x5CA9ULL + i)));
+    driver.move_to(path.start().pose());
+    const Scan scan = driver.acquire(path);
     const IntegrationReport rep = planner.integrate(scan);
     l_s += path.length();
     gt.update(planner.mesh());
@@ -272,8 +270,15 @@ int run(const Options& opt) {
           c.c_a(), c.c_b(), gt.rms_m(), l_s, plan.t_nbs_s, candidates, scan.size(), gt.vertices, utility};
     if (i == 0) r.mode = "init";
     rows.push_back(r);
-    std::printf("%4d %-4s %6.3f  %6.3f  %6zu  %6.3f  %7zu  %6.2f  %6.2f  %5.3f  %6.3f\n", r.scan, r.mode.c_str(), r.c_m,
+    std::printf("%4d %-4s %6.3f  %6.3f  %6zu  %6.3f  %7zu  %6.2f  %6.2f  %5.3f  %6.3f", r.scan, r.mode.c_str(), r.c_m,
                 r.d_m, r.candidates, r.t_nbs, r.points, 100.0 * r.c_a, 100.0 * r.c_b, 1e3 * r.e_m, r.l_s);
+    if (opt.pose.active()) {
+      const PoseErrorRecord& e = driver.last_error();
+      const PoseResidual res = residual_pose_error(e.true_to_reported, rep.registration.correction, e.true_centroid);
+      std::printf("  %-24s  %7.3f  %8.4f", std::string(to_string(rep.registration.status)).c_str(),
+                  1e3 * res.translation_m, res.rotation_rad * 180.0 / std::numbers::pi);
+    }
+    std::printf("\n");
     std::fflush(stdout);
   };
 

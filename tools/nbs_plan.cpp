@@ -8,6 +8,7 @@
 
 #include "nbs/planner/runtime_planner.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -144,6 +145,28 @@ nlohmann::json plan(const Options& o) {
   return j;
 }
 
+/// `j` as dump(2) does, except that an array of numbers (a matrix row, a point) is written on one line.
+void print_json(std::ostream& os, const nlohmann::json& j, int indent = 0) {
+  const auto flat = [](const nlohmann::json& a) {
+    return a.is_array() && !a.empty() && std::all_of(a.begin(), a.end(), [](const auto& x) { return x.is_number(); });
+  };
+  const std::string pad(static_cast<std::size_t>(indent + 2), ' ');
+  if (flat(j) || !j.is_structured() || j.empty()) {
+    os << j.dump();  // compact: [1.0,0.0,0.0,0.1]
+    return;
+  }
+  const bool object = j.is_object();
+  os << (object ? "{\n" : "[\n");
+  bool first = true;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    os << (first ? "" : ",\n") << pad;
+    first = false;
+    if (object) os << nlohmann::json(it.key()).dump() << ": ";
+    print_json(os, *it, indent + 2);
+  }
+  os << "\n" << std::string(static_cast<std::size_t>(indent), ' ') << (object ? "}" : "]");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -161,14 +184,7 @@ int main(int argc, char** argv) {
   app.add_option("--hand-eye", o.hand_eye, "pose file (KITTI 3x4) with T_FS; adds flange poses T_WF = T_WS T_FS^-1 "
                                            "(default: the session's hand_eye, if recorded)")
       ->type_name("FILE");
-  tools::add_method(app, o.method);
-  tools::add_seed(app, o.seed);
-  app.add_option("--scans", o.scans, "n_abort: the planner is done after this many scans")
-      ->check(tools::integer_in(1, 1000))
-      ->capture_default_str();
-  app.add_option("--threads", o.threads, "candidate evaluation threads (default: hardware threads); same result")
-      ->check(tools::integer_in(1, 1024));
-  app.add_flag("--thesis-mesh", o.thesis_mesh, "the thesis's mesh and estimated coverage (RuntimeModels::thesis)");
+  tools::add_run_options(app, o);
   tools::add_config(app);
   if (const auto code = tools::parse(app, argc, argv)) return *code;
   nlohmann::json out;
@@ -184,6 +200,7 @@ int main(int argc, char** argv) {
     std::cerr << "nbs_plan: error: " << e.what() << "\n";
     return 1;
   }
-  std::cout << out.dump(2) << "\n";
+  print_json(std::cout, out);
+  std::cout << "\n";
   return std::cout.good() ? 0 : 1;
 }

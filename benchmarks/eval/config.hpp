@@ -216,6 +216,7 @@ struct Options {
   std::string setup;   ///< `--setup FILE`, empty: the defaults
   std::string sensor;  ///< `--sensor NAME`, empty: the set-up's
   int shard_k = 1, shard_n = 1;  ///< this process runs the (method, run) pairs with index % n == k − 1
+  tools::PoseErrorOptions pose;  ///< `--pose-error T_MM,R_DEG`, `--registration none|icp`
 };
 
 inline constexpr std::string_view kUsage =
@@ -242,6 +243,9 @@ inline constexpr std::string_view kUsage =
     "                    \"sensor\" (default: the set-up's, dlr_lsp)\n"
     "  --config FILE     JSON file with options: {\"<long option>\": value, ...} (e.g. \"runs\": 5, \"setup\":\n"
     "                    \"docs/eval/configs/thesis.json\"); the command line wins\n"
+    "  --pose-error T_MM,R_DEG  simulated robot pose error per scan path: exactly T_MM mm in a random direction\n"
+    "                    and R_DEG degrees about a random axis through the sensor (default: none; docs/evaluation.md)\n"
+    "  --registration none|icp  registration of each scan before it is integrated (default none)\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"
@@ -338,6 +342,7 @@ namespace detail {
   tools::add_seed(app, o.seed);
   app.add_option("--threads", o.threads)->check(tools::integer_in(1, 1024));
   tools::add_out(app, o.out)->required();
+  tools::add_pose_error_options(app, o.pose);
   app.add_option_function<std::string>("--shard", [&o](const std::string& v) {
     const std::size_t slash = v.find('/');
     if (slash == std::string::npos) throw UsageError("--shard must be K/N, got '" + v + "'");

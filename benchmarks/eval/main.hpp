@@ -124,10 +124,16 @@ private:
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
 };
 
-/// The configuration that determines the results (everything but --runs, --methods, --threads, --shard).
+/// The configuration that determines the results (everything but --runs, --methods, --threads, --shard); a rerun
+/// into the same --out skips finished runs only if it is equal (pose error and registration included).
 [[nodiscard]] inline Json eval_json(const Options& o, const Setup& s) {
-  return Json{{"mesh", o.mesh}, {"size_m", o.size_m}, {"up", o.up_name}, {"seed", o.seed},
-              {"n_abort", o.scans}, {"setup", setup_json(s)}};
+  Json j{{"mesh", o.mesh}, {"size_m", o.size_m}, {"up", o.up_name}, {"seed", o.seed},
+         {"n_abort", o.scans}, {"setup", setup_json(s)}};
+  // Only when given, so that the configuration of runs without them stays as it was.
+  if (o.pose.translation_mm)
+    j["pose_error"] = Json{{"translation_mm", *o.pose.translation_mm}, {"rotation_deg", *o.pose.rotation_deg}};
+  if (o.pose.registration) j["registration"] = std::string(to_string(*o.pose.registration));
+  return j;
 }
 
 inline int run_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& log) {
@@ -214,8 +220,10 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     config["c_obs"] = c_obs;
     write_text(dir / "eval.json", config.dump(2) + "\n");
 
+    RuntimeModels models = setup.models;
+    if (o.pose.registration) models.registration = *o.pose.registration;
     const RunContext ctx{scanner, truth, setup.params, sensor, unknown_area_of(mesh, o.size_m), o.scans, c_obs,
-                         setup.planner, setup.models};
+                         setup.planner, models, o.pose};
     std::ofstream lines(dir / "runs.jsonl", std::ios::app);
     if (!lines) throw std::runtime_error("cannot append to '" + (dir / "runs.jsonl").string() + "'");
     Progress progress(todo.size(), log);

@@ -4,6 +4,7 @@
 /// One evaluation run as a JSON line (runs.jsonl) and the summary files (summary.json / .md / .csv, Tab. 4.5).
 /// Every number is SI (metres, seconds); coverages are fractions in [0, 1] in JSON and percent in .md / .csv.
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <iomanip>
@@ -33,6 +34,11 @@ struct ScanRow {
   double t_nbs_s = 0;      ///< time of the planning step that chose this scan (0 for the first scan)
   std::size_t candidates = 0;  ///< candidates scored in that planning step (0 for the first scan)
   std::string mode;        ///< "init" (first scan), "BS" or "HR": the mode the scan was planned in
+  // With --pose-error / --registration only (RunRecord::pose):
+  double pose_t_mm = 0;    ///< residual pose error after registration: |R·c − c| at the true points' centroid, mm
+  double pose_r_deg = 0;   ///< its rotation angle, degrees (residual_pose_error, sim/pose_error.hpp)
+  std::string registration;  ///< the registration status (to_string(RegistrationStatus))
+  double icp_s = 0;        ///< time of the registration step (RegistrationResult::t_s), seconds
 };
 
 /// One (method, run) of the experiment.
@@ -45,6 +51,11 @@ struct RunRecord {
   int n_s = 30;         ///< first scan after which ĉ_m and d̄_m reached their targets, else n_abort
   std::string stop;     ///< "max_scans", "no_candidates" (loop ended early) or "done"
   double c_obs = 0;     ///< observability ceiling of the mesh
+  /// --pose-error / --registration given: the scans carry the pose fields, the run double_surface_share.
+  bool pose = false;
+  /// Share of the final mesh's vertices farther than 2σ (sensor range noise at the planner's standoff) from the
+  /// true surface.
+  double double_surface_share = 0;
   std::vector<ScanRow> scans;
 };
 
@@ -64,9 +75,17 @@ struct RunRecord {
   col("t_nbs_s", [](const ScanRow& x) { return x.t_nbs_s; });
   col("candidates", [](const ScanRow& x) { return x.candidates; });
   col("mode", [](const ScanRow& x) { return x.mode; });
-  return Json{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
-              {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
-              {"scans", std::move(s)}};
+  if (r.pose) {
+    col("pose_t_mm", [](const ScanRow& x) { return x.pose_t_mm; });
+    col("pose_r_deg", [](const ScanRow& x) { return x.pose_r_deg; });
+    col("registration", [](const ScanRow& x) { return x.registration; });
+    col("icp_s", [](const ScanRow& x) { return x.icp_s; });
+  }
+  Json j{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
+         {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
+         {"scans", std::move(s)}};
+  if (r.pose) j["double_surface_share"] = r.double_surface_share;
+  return j;
 }
 
 /// Parses a runs.jsonl line. Throws std::runtime_error (or a json exception) on a malformed line.
@@ -98,6 +117,19 @@ struct RunRecord {
     x.candidates = s["candidates"][i].get<std::size_t>();
     x.mode = s["mode"][i].get<std::string>();
   }
+  r.pose = j.contains("double_surface_share");
+  if (r.pose) {
+    r.double_surface_share = j.at("double_surface_share").get<double>();
+    for (const char* key : {"pose_t_mm", "pose_r_deg", "registration", "icp_s"})
+      if (s.at(key).size() != n) throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
+    for (std::size_t i = 0; i < n; ++i) {
+      ScanRow& x = r.scans[i];
+      x.pose_t_mm = s["pose_t_mm"][i].get<double>();
+      x.pose_r_deg = s["pose_r_deg"][i].get<double>();
+      x.registration = s["registration"][i].get<std::string>();
+      x.icp_s = s["icp_s"][i].get<double>();
+    }
+  }
   return r;
 }
 
@@ -126,6 +158,13 @@ struct RunRecord {
   o.k99 = k99;
   o.path_to_k99_m = r.scans[std::min<std::size_t>(static_cast<std::size_t>(k99), r.scans.size()) - 1].l_s_m;
   o.stop_minus_k99 = r.n_s - k99;
+  o.pose = r.pose;
+  if (r.pose) {
+    for (const ScanRow& x : r.scans) o.mean_pose_t_mm += x.pose_t_mm, o.mean_pose_r_deg += x.pose_r_deg;
+    o.mean_pose_t_mm /= static_cast<double>(r.scans.size());
+    o.mean_pose_r_deg /= static_cast<double>(r.scans.size());
+    o.double_surface_share = r.double_surface_share;
+  }
   return o;
 }
 
@@ -161,7 +200,7 @@ inline void sort_records(std::vector<RunRecord>& v) {
 
 [[nodiscard]] inline Json summary_json(const std::vector<MethodSummary>& rows) {
   Json j = Json::object();
-  for (const MethodSummary& s : rows)
+  for (const MethodSummary& s : rows) {
     j[s.method] = Json{{"runs", s.runs},
                        {"median_scans", s.median_scans},
                        {"q1_scans", s.q1_scans},
@@ -176,6 +215,12 @@ inline void sort_records(std::vector<RunRecord>& v) {
                        {"median_k99", s.median_k99},
                        {"mean_path_to_k99_m", s.mean_path_to_k99_m},
                        {"stop_minus_k99", s.median_stop_minus_k99}};
+    if (s.pose) {  // --pose-error / --registration runs only
+      j[s.method]["mean_pose_t_mm"] = s.mean_pose_t_mm;
+      j[s.method]["mean_pose_r_deg"] = s.mean_pose_r_deg;
+      j[s.method]["mean_double_surface_share"] = s.mean_double_surface_share;
+    }
+  }
   return j;
 }
 
@@ -212,9 +257,11 @@ namespace detail {
   using detail::fixed;
   std::ostringstream o;
   const std::string ab = std::to_string(n_abort);
+  const bool pose = !rows.empty() && std::all_of(rows.begin(), rows.end(), [](const MethodSummary& s) { return s.pose; });
   o << "| Method | Selection | Search | runs | median n_s | Notch | mean c_a(n_s) % | mean c_a(" << ab
-    << ") % | mean l_s / m | mean t_nbs / s | c_obs % | median k95 | median k99 | mean l_s to k99 / m | n_s − k99 |\n";
-  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    << ") % | mean l_s / m | mean t_nbs / s | c_obs % | median k95 | median k99 | mean l_s to k99 / m | n_s − k99 |"
+    << (pose ? " pose t / mm | pose r / deg | double surface % |" : "") << "\n";
+  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << (pose ? "---:|---:|---:|" : "") << "\n";
   for (const MethodSummary& s : rows) {
     const Method m = parse_method(s.method);
     o << "| " << s.method << " | " << selection_name(m) << " | " << search_name(m) << " | " << s.runs << " | "
@@ -222,7 +269,11 @@ namespace detail {
       << " | " << fixed(100.0 * s.mean_ca_at_30, 2) << " | " << fixed(s.mean_path_length_m, 2) << " | "
       << fixed(s.mean_t_nbs_s, 2) << " | " << fixed(100.0 * s.mean_c_obs, 2) << " | " << fixed(s.median_k95, 1)
       << " | " << fixed(s.median_k99, 1) << " | " << fixed(s.mean_path_to_k99_m, 2) << " | "
-      << fixed(s.median_stop_minus_k99, 1) << " |\n";
+      << fixed(s.median_stop_minus_k99, 1) << " |";
+    if (pose)
+      o << " " << fixed(s.mean_pose_t_mm, 3) << " | " << fixed(s.mean_pose_r_deg, 3) << " | "
+        << fixed(100.0 * s.mean_double_surface_share, 2) << " |";
+    o << "\n";
   }
   return o.str();
 }

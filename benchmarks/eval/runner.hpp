@@ -12,10 +12,14 @@
 
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
+#include "common/options.hpp"
 #include "eval/records.hpp"
+#include "nbs/driver/pose_error_driver.hpp"
+#include "nbs/sim/pose_error.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/sim/ground_truth.hpp"
 #include "nbs/core/detail/random.hpp"
@@ -47,8 +51,19 @@ struct RunContext {
   int n_abort = 30;
   double c_obs = 0.0;
   PlannerSetting setting{};  ///< keep_exploring of the config; threads and seed are set per run
-  RuntimeModels models{};    ///< mesh and ĉ_m form of the config
+  RuntimeModels models{};    ///< mesh and ĉ_m form of the config (and the registration method)
+  /// --pose-error / --registration: the error of each run (seed derived from the run's) and whether the records
+  /// carry the pose fields.
+  tools::PoseErrorOptions pose{};
 };
+
+/// The double-surface threshold: 2σ of the sensor's range noise (Eq. 4.39 for the DLR LSP) at the planner's
+/// standoff distance d_s (PlannerSetting::standoff_m, default the middle of the working range: 0.3 m, σ ≈ 1.14 mm
+/// for the DLR LSP).
+[[nodiscard]] inline double double_surface_threshold_m(const RuntimePlanner& planner) {
+  const double d_s = std::visit([](const auto& p) { return p.standoff(); }, planner.variant());
+  return 2.0 * planner.sensor().noise.sigma_m(d_s);
+}
 
 /// Runs method `m`, run index `run` with seed `seed`. Throws what the planner or scanner throw.
 [[nodiscard]] inline RunRecord run_one(const RunContext& ctx, const Method& m, int run, std::uint64_t seed) {
@@ -67,6 +82,8 @@ struct RunContext {
       },
       planner.variant());
   const CoverageAndDensityReached quality(params);
+  // The scans go through the pose-error decorator (zero error without --pose-error: bit-identical scans).
+  PoseErrorDriver driver(SimulatedDriver(ctx.scanner, planner.sensor(), seed), ctx.pose.setting(seed));
 
   RunRecord rec;
   rec.method = format_method(m);
@@ -103,6 +120,15 @@ struct RunContext {
     row.t_nbs_s = r.planning.t_nbs_s;
     row.candidates = r.planning.evaluated;
     row.mode = r.scan == 1 ? "init" : std::string(to_string(r.planning.mode));
+    if (ctx.pose.active()) {
+      const RegistrationResult& reg = r.integration.registration;
+      const PoseErrorRecord& e = driver.last_error();
+      const PoseResidual res = residual_pose_error(e.true_to_reported, reg.correction, e.true_centroid);
+      row.pose_t_mm = 1e3 * res.translation_m;
+      row.pose_r_deg = res.rotation_rad * 180.0 / std::numbers::pi;
+      row.registration = std::string(to_string(reg.status));
+      row.icp_s = reg.t_s;
+    }
     if (r.scan == 1) rec.initial_index = r.initial_index;
     rec.scans.push_back(std::move(row));
     if (!reached && quality.done(ModelProgress{r.scan, r.integration.estimated_coverage, r.integration.mean_density})) {
@@ -113,7 +139,18 @@ struct RunContext {
   SimulationSetting sim;
   sim.seed = seed;
   sim.max_scans = ctx.n_abort;
-  const SimulationResult res = run_simulation(planner, ctx.scanner, sim, on_scan);
+  const SimulationResult res = run_loop(planner, driver, sim, on_scan);
+  if (ctx.pose.active()) {
+    rec.pose = true;
+    const StreamingMesh& mesh = planner.mesh();
+    std::vector<Vec3> all(mesh.vertex_count());
+    for (std::size_t v = 0; v < all.size(); ++v) all[v] = mesh.position(static_cast<VertexId>(v));
+    const double limit = double_surface_threshold_m(planner);
+    std::size_t far = 0;
+    if (!all.empty())
+      for (double d : ctx.truth.distance().distances(all, 1)) far += d > limit ? 1 : 0;
+    rec.double_surface_share = all.empty() ? 0.0 : static_cast<double>(far) / static_cast<double>(all.size());
+  }
   if (static_cast<int>(res.records.size()) >= ctx.n_abort) rec.stop = "max_scans";
   else rec.stop = res.stop == LoopStop::no_candidates ? "no_candidates" : "done";
   return rec;

@@ -63,6 +63,10 @@ struct RunOutcome {
   double k99 = 0;           ///< k_0.99
   double path_to_k99_m = 0; ///< l_s after scan k99; when never reached, l_s over all scans (a lower bound)
   double stop_minus_k99 = 0;///< n_s − k99 (negative: the planner's criterion held before the truth reached 0.99)
+  /// With --pose-error / --registration: the run's mean residual pose error over its scans (mm, deg) and its
+  /// double_surface_share.
+  bool pose = false;
+  double mean_pose_t_mm = 0, mean_pose_r_deg = 0, double_surface_share = 0;
 };
 
 /// One row of Tab. 4.5 (plus c_obs and the quartiles).
@@ -72,6 +76,9 @@ struct MethodSummary {
   double median_scans = 0, q1_scans = 0, q3_scans = 0, notch = 0;
   double mean_ca_at_stop = 0, mean_ca_at_30 = 0, mean_path_length_m = 0, mean_t_nbs_s = 0, mean_c_obs = 0;
   double median_k95 = 0, median_k99 = 0, mean_path_to_k99_m = 0, median_stop_minus_k99 = 0;  ///< truth-based
+  /// Only when every run has them (RunOutcome::pose): means over the runs.
+  bool pose = false;
+  double mean_pose_t_mm = 0, mean_pose_r_deg = 0, mean_double_surface_share = 0;
 };
 
 /// Summarises the runs of one method. Throws std::invalid_argument if `runs` is empty.
@@ -100,6 +107,12 @@ struct MethodSummary {
   s.median_k99 = median(column(&RunOutcome::k99));
   s.mean_path_to_k99_m = mean(column(&RunOutcome::path_to_k99_m));
   s.median_stop_minus_k99 = median(column(&RunOutcome::stop_minus_k99));
+  s.pose = std::all_of(runs.begin(), runs.end(), [](const RunOutcome& r) { return r.pose; });
+  if (s.pose) {
+    s.mean_pose_t_mm = mean(column(&RunOutcome::mean_pose_t_mm));
+    s.mean_pose_r_deg = mean(column(&RunOutcome::mean_pose_r_deg));
+    s.mean_double_surface_share = mean(column(&RunOutcome::double_surface_share));
+  }
   return s;
 }
 

@@ -39,6 +39,7 @@
 #include "nbs/coverage/coverage_estimator.hpp"
 
 #include "nbs/driver/concepts.hpp"
+#include "nbs/driver/pose_error_driver.hpp"
 #include "nbs/driver/recording_driver.hpp"
 #include "nbs/driver/replay_driver.hpp"
 #include "nbs/driver/simulated_driver.hpp"
@@ -92,6 +93,7 @@
 #include "nbs/sim/metrics.hpp"
 #include "nbs/sim/observability.hpp"
 #include "nbs/sim/point_triangle_distance.hpp"
+#include "nbs/sim/pose_error.hpp"
 #include "nbs/sim/ray_caster.hpp"
 #include "nbs/sim/scan_path_length.hpp"
 #include "nbs/sim/surface_samples.hpp"

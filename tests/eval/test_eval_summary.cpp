@@ -450,3 +450,99 @@ TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finishe
                 log) == 2);
   CHECK_THAT(log, nbs_test::Contains("different configuration"));
 }
+
+TEST_CASE("pose fields: JSON round trip and the run's means", "[eval][pose_error]") {
+  nbs::eval::RunRecord r = hand_record();
+  CHECK_FALSE(nbs::eval::to_json(r).contains("double_surface_share"));  // without the options: as before
+  r.pose = true;
+  r.double_surface_share = 0.25;
+  const double t[] = {1.0, 0.5, 0.0}, a[] = {0.1, 0.1, 0.4};
+  for (int i = 0; i < 3; ++i) {
+    r.scans[i].pose_t_mm = t[i];
+    r.scans[i].pose_r_deg = a[i];
+    r.scans[i].registration = i == 0 ? "refused_empty_model" : "applied";
+    r.scans[i].icp_s = 0.01 * i;
+  }
+  const Json j = nbs::eval::to_json(r);
+  CHECK(j.at("scans").at("registration")[1] == "applied");
+  const nbs::eval::RunRecord back = nbs::eval::record_from_json(Json::parse(j.dump()));
+  CHECK(back.pose);
+  CHECK(nbs::eval::to_json(back) == j);
+  const nbs::eval::RunOutcome o = nbs::eval::outcome(back);
+  CHECK(o.mean_pose_t_mm == Approx(0.5));
+  CHECK(o.mean_pose_r_deg == Approx(0.2));
+  CHECK(o.double_surface_share == 0.25);
+  const auto rows = nbs::eval::summarize_records({back, back});
+  CHECK(nbs::eval::summary_json(rows).at("C_H").at("mean_double_surface_share") == 0.25);
+  CHECK_THAT(nbs::eval::summary_markdown(rows, 3), nbs_test::Contains("double surface %"));
+  CHECK_FALSE(nbs::eval::summary_json(nbs::eval::summarize_records({hand_record()})).at("C_H").contains("mean_pose_t_mm"));
+}
+
+TEST_CASE("CLI: bad --pose-error and --registration exit 2 naming option and value", "[eval][pose_error]") {
+  const TempDir tmp("pose_bad");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  const std::string out = (tmp.path / "out").string();
+  for (const std::string v : {"1", "1,", ",1", "-1,0.1", "1,-0.1", "nan,0", "1,inf", "a,b", "1,200", "1,0.1,2"})
+    expect_rejected({"--mesh", bunny, "--out", out, "--pose-error", v}, "--pose-error: expects T_MM,R_DEG", out);
+  expect_rejected({"--mesh", bunny, "--out", out, "--pose-error", "1,x"}, "got '1,x'", out);
+  expect_rejected({"--mesh", bunny, "--out", out, "--registration", "gicp"}, "unknown registration method 'gicp'", out);
+}
+
+TEST_CASE("CLI: --pose-error runs: new fields consistent, zero error identical to no option, rerun check",
+          "[eval][pose_error]") {
+  const TempDir tmp("pose_runs");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  const std::vector<std::string> common{"--mesh", bunny, "--size", "0.05", "--methods", "C_H", "--runs", "1",
+                                        "--scans", "2", "--seed", "7", "--threads", "1"};
+  const auto with = [&](std::vector<std::string> extra, const fs::path& out) {
+    std::vector<std::string> a = common;
+    a.insert(a.end(), extra.begin(), extra.end());
+    a.insert(a.end(), {"--out", out.string()});
+    return a;
+  };
+  std::string log;
+  REQUIRE(run_cli(with({}, tmp.path / "plain"), log) == 0);
+  REQUIRE(run_cli(with({"--pose-error", "0,0"}, tmp.path / "zero"), log) == 0);
+  REQUIRE(run_cli(with({"--pose-error", "1,0.1", "--registration", "icp"}, tmp.path / "err"), log) == 0);
+  const std::vector<Json> plain = lines_of(tmp.path / "plain" / "runs.jsonl");
+  std::vector<Json> zero = lines_of(tmp.path / "zero" / "runs.jsonl");
+  const std::vector<Json> err = lines_of(tmp.path / "err" / "runs.jsonl");
+  REQUIRE(plain.size() == 1);
+  REQUIRE(zero.size() == 1);
+  REQUIRE(err.size() == 1);
+  CHECK_FALSE(plain[0].contains("double_surface_share"));
+  CHECK_FALSE(plain[0]["scans"].contains("pose_t_mm"));
+  // Zero error: the scans are bit-identical, so everything but the timing and the new fields is equal.
+  for (const char* k : {"pose_t_mm", "pose_r_deg", "icp_s"})
+    for (const Json& v : zero[0]["scans"][k]) CHECK(v.get<double>() == 0.0);
+  for (const Json& v : zero[0]["scans"]["registration"]) CHECK(v == "not_run");
+  zero[0].erase("double_surface_share");
+  for (const char* k : {"pose_t_mm", "pose_r_deg", "registration", "icp_s"}) zero[0]["scans"].erase(k);
+  CHECK(without_timing(zero[0]) == without_timing(plain[0]));
+  // 1 mm, 0.1°, the ICP refusing on this branch or correcting: per scan a status, and without a correction the
+  // residual is E itself: 0.1° exactly, |t| within 1 mm ± the lever arm 2 sin(0.05°)·|c − s0| (|c − s0| < 0.5 m).
+  const Json& s = err[0]["scans"];
+  REQUIRE(s["pose_t_mm"].size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    INFO("scan " << i);
+    CHECK(s["registration"][i].is_string());
+    CHECK(s["icp_s"][i].get<double>() >= 0.0);
+    if (s["registration"][i] != "applied") {
+      CHECK(s["pose_r_deg"][i].get<double>() == Approx(0.1).epsilon(1e-9));
+      CHECK(std::abs(s["pose_t_mm"][i].get<double>() - 1.0) <= 1e3 * 2.0 * std::sin(0.05 * M_PI / 180.0) * 0.5);
+    }
+  }
+  const double share = err[0]["double_surface_share"].get<double>();
+  CHECK((share >= 0.0 && share <= 1.0));
+  const Json cfg = Json::parse(read(tmp.path / "err" / "eval.json"));
+  CHECK(cfg.at("pose_error").at("translation_mm") == 1.0);
+  CHECK(cfg.at("registration") == "icp");
+  CHECK_FALSE(Json::parse(read(tmp.path / "plain" / "eval.json")).contains("pose_error"));
+  CHECK(Json::parse(read(tmp.path / "err" / "summary.json")).at("C_H").contains("mean_pose_t_mm"));
+  // A rerun with the same options skips the finished run; with another pose error it is refused.
+  REQUIRE(run_cli(with({"--pose-error", "1,0.1", "--registration", "icp"}, tmp.path / "err"), log) == 0);
+  CHECK_THAT(log, nbs_test::Contains("1 finished runs found"));
+  CHECK(run_cli(with({"--pose-error", "2,0.1", "--registration", "icp"}, tmp.path / "err"), log) == 2);
+  CHECK_THAT(log, nbs_test::Contains("different configuration"));
+  CHECK(run_cli(with({"--pose-error", "1,0.1"}, tmp.path / "err"), log) == 2);
+}

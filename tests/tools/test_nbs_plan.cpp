@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -120,6 +121,17 @@ TEST_CASE("nbs_plan replans a recorded session to the in-memory planner's next s
   INFO(r.err);
   REQUIRE(r.code == 0);
   const nlohmann::json j = nlohmann::json::parse(r.out);
+  {  // Each matrix row on one line: no line holds a lone number.
+    std::istringstream lines(r.out);
+    std::size_t lone = 0, rows = 0;
+    for (std::string l; std::getline(lines, l);) {
+      const auto b = l.find_first_not_of(' ');
+      if (b != std::string::npos && (std::isdigit(static_cast<unsigned char>(l[b])) || l[b] == '-')) ++lone;
+      rows += l.find("[[") == std::string::npos && l.find('[') != std::string::npos && l.find(']') != std::string::npos;
+    }
+    CHECK(lone == 0);
+    CHECK(rows >= 4);
+  }
   CHECK(j.at("status") == "ok");
   CHECK(j.at("method") == "C_H");
   CHECK(j.at("scans") == 2);

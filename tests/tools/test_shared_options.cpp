@@ -80,6 +80,25 @@ TEST_CASE("shared options: a bad value exits 2 naming the option and the value",
   }
 }
 
+TEST_CASE("nbs_model: bad --pose-error and --registration exit 2 naming the value", "[tools][options][pose_error]") {
+#ifdef NBS_MODEL_EXE
+  const std::vector<std::pair<std::string, std::string>> bad = {{"--pose-error 1", "'1'"},
+                                                                {"--pose-error -1,0", "'-1,0'"},
+                                                                {"--pose-error 1,nan", "'1,nan'"},
+                                                                {"--registration gicp", "'gicp'"}};
+  for (const auto& [args, needle] : bad) {
+    const Result r = run(NBS_MODEL_EXE, args);
+    INFO(args << "\n" << r.err);
+    CHECK(r.code == 2);
+    CHECK(r.out.empty());
+    CHECK_THAT(r.err, nbs_test::Contains(needle));
+    CHECK_THAT(r.err, nbs_test::Contains(args.substr(0, args.find(' '))));
+  }
+#else
+  WARN("nbs_model is not built (it needs Embree): nothing to check");
+#endif
+}
+
 TEST_CASE("shared options: --config", "[tools][options]") {
   const std::vector<std::string> tools = mesh_tools();
   if (tools.empty()) {

@@ -6,6 +6,7 @@
 /// `--help` prints and exits 0; a bad option or value prints `<tool>: <message naming option and value>` and the
 /// hint to `--help` on stderr and exits 2 (kUsageExit); `--config FILE` reads a JSON object whose keys are long
 /// option names without `--` (`{"size": 0.2, "up": "z", "no-images": true}`), the command line wins over the file.
+/// `--pose-error` and `--registration` (nbs_model, nbs_eval) are declared here once as well.
 /// Used by nbs_plan, nbs_model, nbs_diagnose and nbs_eval (whose planner set-up file is `--setup`, and which takes
 /// `--methods LIST` next to `--method`: benchmarks/eval/config.hpp).
 
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -27,7 +29,10 @@
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/mesh/normalize.hpp"
+#include "nbs/core/detail/random.hpp"
 #include "nbs/planner/runtime_planner.hpp"
+#include "nbs/registration/selectable_registration.hpp"
+#include "nbs/sim/pose_error.hpp"
 #include "nbs/sensor/presets.hpp"
 
 namespace nbs::tools {
@@ -67,17 +72,24 @@ inline CLI::Option* add_up(CLI::App& app, UpAxis& up) {
       ->type_name("AXIS");
 }
 
+/// The finite number that is all of `s`, or std::nullopt.
+[[nodiscard]] inline std::optional<double> finite_number(const std::string& s) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used != s.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 /// A finite number > 0 (CLI11 validator naming the value).
 inline const CLI::Validator kPositive(
     [](std::string& s) -> std::string {
-      double v = 0.0;
-      std::size_t used = 0;
-      try {
-        v = std::stod(s, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != s.size() || !(v > 0.0) || !std::isfinite(v)) return "expects a finite number > 0, got '" + s + "'";
+      const std::optional<double> v = finite_number(s);
+      if (!v || !(*v > 0.0)) return "expects a finite number > 0, got '" + s + "'";
       return {};
     },
     "", "positive");
@@ -150,6 +162,100 @@ inline CLI::Option* add_sensor(CLI::App& app, std::string& name) {
           },
           "laser stripe profiler preset: " + names + " (default dlr_lsp)")
       ->type_name("NAME");
+}
+
+/// `--scans N`: n_abort, the hard limit on the number of scans (Tab. 4.3), 1 to 1000.
+inline CLI::Option* add_scans(CLI::App& app, int& scans) {
+  return app.add_option("--scans", scans, "n_abort, hard limit on the number of scans (Tab. 4.3)")
+      ->check(integer_in(1, 1000))
+      ->capture_default_str();
+}
+
+/// `--threads N`: candidate evaluation threads, 1 to 1024 (results do not depend on it).
+inline CLI::Option* add_threads(CLI::App& app, unsigned& threads) {
+  return app.add_option("--threads", threads, "candidate evaluation threads (default: hardware threads); same results")
+      ->check(integer_in(1, 1024));
+}
+
+/// `--thesis-mesh`: the thesis's mesh and estimated coverage (RuntimeModels::thesis).
+inline CLI::Option* add_thesis_mesh(CLI::App& app, bool& thesis_mesh) {
+  return app.add_flag("--thesis-mesh", thesis_mesh,
+                      "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust "
+                      "mesh and the unseen_open estimate");
+}
+
+/// The object options of the simulating tools (nbs_model, nbs_diagnose): `--mesh --up --size --sensor`, into the
+/// members `mesh`, `up`, `size_m`, `sensor` of `o`.
+template <class O>
+void add_object_options(CLI::App& app, O& o) {
+  add_mesh(app, o.mesh, "ground-truth mesh, OBJ or PLY (default: the bundled Stanford bunny)");
+  add_up(app, o.up);
+  add_size(app, o.size_m);
+  add_sensor(app, o.sensor);
+}
+
+/// The options of a planning run (nbs_model, nbs_diagnose, nbs_plan): `--method --seed --scans --threads
+/// --thesis-mesh`, into the members `method`, `seed`, `scans`, `threads`, `thesis_mesh` of `o`.
+template <class O>
+void add_run_options(CLI::App& app, O& o) {
+  add_method(app, o.method);
+  add_seed(app, o.seed);
+  add_scans(app, o.scans);
+  add_threads(app, o.threads);
+  add_thesis_mesh(app, o.thesis_mesh);
+}
+
+/// `--pose-error T_MM,R_DEG` and `--registration none|icp` (nbs_model, nbs_eval): a simulated robot pose error
+/// (sim/pose_error.hpp) of exactly T_MM millimetres and R_DEG degrees per scan path, and the registration step that
+/// may correct it (RuntimeModels::registration). Neither given: the tools behave as without them, byte for byte.
+struct PoseErrorOptions {
+  std::optional<double> translation_mm, rotation_deg;  ///< both set by --pose-error
+  std::optional<RegistrationMethod> registration;       ///< --registration
+
+  /// Whether either option was given (the tools then report residual pose error and registration per scan).
+  [[nodiscard]] bool active() const { return translation_mm.has_value() || registration.has_value(); }
+
+  /// The error setting of a run with seed `run_seed` (zero error without --pose-error); its seed is derived from
+  /// `run_seed` only, so every method sees the same errors in the same run.
+  [[nodiscard]] PoseErrorSetting setting(std::uint64_t run_seed) const {
+    PoseErrorSetting s;
+    s.translation_m = 1e-3 * translation_mm.value_or(0.0);
+    s.rotation_rad = rotation_deg.value_or(0.0) * std::numbers::pi / 180.0;
+    s.seed = nbs::detail::splitmix64(run_seed ^ 0x504F53454552524FULL);
+    return s;
+  }
+};
+
+/// Adds `--pose-error T_MM,R_DEG` (two finite numbers >= 0; R_DEG <= 180) and `--registration none|icp`.
+inline void add_pose_error_options(CLI::App& app, PoseErrorOptions& o) {
+  app.add_option_function<std::string>(
+         "--pose-error",
+         [&o](const std::string& v) {
+           const auto bad = [&v] {
+             return UsageError("--pose-error",
+                               "expects T_MM,R_DEG (two finite numbers >= 0: millimetres, degrees <= 180), got '" + v + "'");
+           };
+           const std::size_t comma = v.find(',');
+           if (comma == std::string::npos) throw bad();
+           const std::optional<double> t = finite_number(v.substr(0, comma)), r = finite_number(v.substr(comma + 1));
+           if (!t || !r || !(*t >= 0.0) || !(*r >= 0.0) || *r > 180.0) throw bad();
+           o.translation_mm = *t;
+           o.rotation_deg = *r;
+         },
+         "simulated robot pose error per scan path: translation in mm, rotation in degrees (e.g. 1,0.1: the KR16's "
+         "millimetre range, Sec. 5.1.1); default: none")
+      ->type_name("T_MM,R_DEG");
+  app.add_option_function<std::string>(
+         "--registration",
+         [&o](const std::string& v) {
+           try {
+             o.registration = parse_registration_method(v);
+           } catch (const InvalidArgument& e) {
+             throw UsageError("--registration", e.what());
+           }
+         },
+         "registration of each scan before it is integrated (Sec. 3.2.3): none or icp (default none)")
+      ->type_name("none|icp");
 }
 
 /// `--out DIR`: output directory, created if missing.
