@@ -9,6 +9,7 @@
 
 #include "nbs/registration/icp.hpp"
 #include "nbs/registration/scan_normals.hpp"
+#include "conformance/registration_conformance.hpp"
 #include "support/synthetic.hpp"
 
 namespace {
@@ -34,18 +35,6 @@ IcpSetting converged() {
   s.iterations = 30;
   s.converge = IcpSetting::Convergence{1e-7, 1e-7};
   return s;
-}
-
-void check_same(const RegistrationResult& a, const RegistrationResult& b) {
-  CHECK(a.status == b.status);
-  CHECK(a.correction.matrix() == b.correction.matrix());
-  CHECK(a.scan_points == b.scan_points);
-  CHECK(a.correspondences == b.correspondences);
-  CHECK(a.iterations == b.iterations);
-  CHECK(a.rms_before_m == b.rms_before_m);
-  CHECK(a.rms_after_m == b.rms_after_m);
-  CHECK(a.condition == b.condition);
-  CHECK(a.reason == b.reason);
 }
 
 struct Case {
@@ -209,10 +198,10 @@ TEST_CASE("icp: a NaN point throws and changes nothing; same input, bit-identica
 
   const RegistrationResult a = icp.register_scan(moved, model), b = icp.register_scan(moved, model);
   REQUIRE(a.status == RegistrationStatus::applied);
-  check_same(a, b);
+  nbs::conformance::check_same_result(a, b);
   const RegistrationResult c = Icp(converged()).register_scan(moved, model),
                            d = Icp(converged()).register_scan(moved, model);
-  check_same(c, d);
+  nbs::conformance::check_same_result(c, d);
 }
 
 TEST_CASE("icp: IcpSetting::validate names the field and the value", "[registration][icp][validation]") {

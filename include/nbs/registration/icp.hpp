@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -36,9 +37,13 @@ struct IcpSetting {
   std::optional<Convergence> converge;
   double normal_radius_m = 0.0;       ///< radius of the scan's normal estimation; 0 = radius_m
   std::size_t min_correspondences = 100;  ///< refuse with fewer scan points with normals or correspondences
-  double min_condition = 1e-3;        ///< refuse when λ_min/λ_max of the scaled normal matrix is below
+  double min_condition = 3e-3;        ///< refuse when λ_min/λ_max of the scaled normal matrix is below
   double max_translation_m = 0.02;    ///< refuse a correction that moves the scan centroid farther
   double max_rotation_rad = 5.0 * std::numbers::pi / 180.0;  ///< refuse a larger correction rotation
+  /// Residual trimming (nbs addition): an iteration drops the correspondences whose |point-to-plane residual| exceeds
+  /// trim_factor × the median |residual| of that iteration (e.g. scan points beside an edge matched to a vertex whose
+  /// normal the mesh blended across the edge). 0 = off (the thesis: every gated correspondence counts).
+  double trim_factor = 5.0;
 
   void validate() const;
   bool operator==(const IcpSetting&) const = default;
@@ -92,6 +97,8 @@ inline void IcpSetting::validate() const {
   detail::require(std::isfinite(min_condition) && min_condition > 0.0 && min_condition < 1.0,
                   "IcpSetting::min_condition must be in (0, 1), got ", min_condition);
   detail::require_positive("IcpSetting::max_translation_m", max_translation_m);
+  detail::require(std::isfinite(trim_factor) && (trim_factor == 0.0 || trim_factor >= 1.0),
+                  "IcpSetting::trim_factor must be 0 (off) or >= 1, got ", trim_factor);
   detail::require(std::isfinite(max_rotation_rad) && max_rotation_rad > 0.0 && max_rotation_rad <= std::numbers::pi,
                   "IcpSetting::max_rotation_rad must be in (0, pi], got ", max_rotation_rad);
 }
@@ -158,6 +165,7 @@ RegistrationResult Icp::register_scan(const Scan& scan, const Mesh& mesh) const 
   const std::vector<Vec3>& mp = model.points();
   const double cos_gate = std::cos(s.max_normal_angle_rad);
   std::vector<detail::PlaneCorrespondence> corr;
+  std::vector<double> abs_residuals;
   corr.reserve(used.size());
   Pose estimate = Pose::Identity();
   Pose last_update = Pose::Identity();
@@ -168,14 +176,19 @@ RegistrationResult Icp::register_scan(const Scan& scan, const Mesh& mesh) const 
     for (const std::uint32_t i : used) {
       const Vec3 q = estimate * scan.points[i];
       const Vec3 n = rot * normals[i];
-      std::size_t best = mp.size();
-      double best_d2 = std::numeric_limits<double>::infinity();
-      model.for_each_within(q, s.radius_m, [&](std::size_t j, double d2) {
-        if ((d2 < best_d2 || (d2 == best_d2 && j < best)) && model_normals[j].dot(n) >= cos_gate)
-          best = j, best_d2 = d2;
-      });
+      const std::size_t best =
+          model.nearest_within(q, s.radius_m, [&](std::size_t j) { return model_normals[j].dot(n) >= cos_gate; })
+              .first;
       if (best == mp.size()) continue;
       corr.push_back({q, model_normals[best], model_normals[best].dot(q - mp[best])});
+    }
+    if (s.trim_factor > 0.0 && !corr.empty()) {
+      abs_residuals.resize(corr.size());
+      for (std::size_t k = 0; k < corr.size(); ++k) abs_residuals[k] = std::abs(corr[k].r);
+      const auto mid = abs_residuals.begin() + static_cast<std::ptrdiff_t>(abs_residuals.size() / 2);
+      std::nth_element(abs_residuals.begin(), mid, abs_residuals.end());
+      const double bound = s.trim_factor * *mid;
+      std::erase_if(corr, [bound](const detail::PlaneCorrespondence& k) { return std::abs(k.r) > bound; });
     }
     r.correspondences = corr.size();
     r.iterations = it + 1;
