@@ -53,22 +53,24 @@ struct IcpSetting {
 ///
 /// `register_scan(scan, mesh)`:
 /// 1. Model: the mesh vertices with a normal inside the scan's bounding box grown by radius_m + max_translation_m +
-///    max_rotation_rad·(its diagonal) — every vertex an admissible correction can reach; a kd-tree over them.
+///    max_rotation_rad·(its diagonal) — every vertex an admissible correction can bring within radius_m; a kd-tree
+///    over them (the cost follows the overlap, not the model).
 /// 2. Scan normals: estimate_scan_normals with radius normal_radius_m (0: radius_m), oriented to the sensor;
 ///    points without a normal are not used.
-/// 3. Each iteration: every used scan point q = C·p (C the current estimate, identity at first) is matched to
-///    the nearest model vertex m within radius_m whose normal n_m satisfies n_m·(C·n_p) ≥ cos(max_normal_angle_rad)
-///    (ties: smaller index); one linearised point-to-plane step (detail::point_to_plane_step, error n_m·(q − m)) about
-///    the centroid of the matched q; C ← step·C. `iterations` iterations, or fewer when `converge` is set and
-///    an update is below both of its bounds.
+/// 3. Each iteration: every used scan point q = C·p (C the current estimate, identity at first) is matched to the
+///    nearest model vertex m within radius_m whose normal n_m satisfies n_m·(C·n_p) ≥ cos(max_normal_angle_rad);
+///    with trim_factor > 0, matches with |n_m·(q − m)| above trim_factor × their median are dropped; one linearised
+///    point-to-plane step (detail::point_to_plane_step) about the centroid of the matched q; C ← step·C.
+///    `iterations` iterations, or fewer when `converge` is set and an update is below both of its bounds.
 /// Refusals (correction identity; `reason` names the value and the bound): no model vertex with a normal
 /// (refused_empty_model); fewer than min_correspondences scan points with a normal (refused_few_points) or
 /// correspondences in an iteration (refused_correspondences); an iteration's condition below min_condition
-/// (refused_degenerate: a plane, a sphere, a cylinder do not fix all six DoF); the estimate moves the centroid of the
-/// used scan points farther than max_translation_m or rotates more than max_rotation_rad (refused_large_correction).
-/// Throws InvalidArgument for an invalid scan (Scan::validate) or setting. Cost O((n + k) log k + n log n) for n scan
-/// points and k cropped model vertices; serial, deterministic (bit-identical results for the same input). Const:
-/// concurrent calls on one Icp are safe.
+/// (refused_degenerate: a plane, a sphere, a sphere beside one plane do not fix all six DoF); the estimate moves the
+/// centroid of the used scan points farther than max_translation_m or rotates more than max_rotation_rad
+/// (refused_large_correction).
+/// Throws InvalidArgument for an invalid scan (Scan::validate) or setting. Cost O(n + k log k + i·n log k) for n scan
+/// points, k cropped model vertices and i iterations; serial and deterministic (bit-identical results for the same
+/// input). Const: concurrent calls on one Icp are safe.
 class Icp {
 public:
   IcpSetting setting{};
