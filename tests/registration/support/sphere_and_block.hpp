@@ -3,16 +3,16 @@
 // A core-only analytic scanner for registration in the planner: the sphere of SphereOnPedestal
 // (tests/planner/support/analytic_scanner.hpp) with a box standing next to it on the pedestal. The sphere alone is
 // rotationally symmetric (ICP refuses it as degenerate); the box's faces fix the remaining rotations. Exact ray
-// casts, the sensor's range and its noise along the ray (CounterGaussian by seed, profile and ray).
+// casts, the sensor's range and its noise along the ray (scan_analytic).
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include "nbs/core/scan.hpp"
 #include "nbs/core/scan_path.hpp"
-#include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
 #include "planner/support/analytic_scanner.hpp"
 
@@ -46,27 +46,15 @@ struct SphereAndBlock {
     return std::min(ds, db);
   }
 
+  /// The first hit along unit d from o: the box, the sphere, or the pedestal (on_object false).
+  [[nodiscard]] std::optional<double> hit(const Vec3& o, const Vec3& d, bool& on_object) const {
+    std::optional<double> t = sphere.hit(o, d, on_object);
+    if (const std::optional<double> tb = block_hit(o, d); tb && (!t || *tb < *t)) t = tb, on_object = true;
+    return t;
+  }
+
   [[nodiscard]] Scan scan(const LinearScanPath& path, const LaserStripeProfiler& lsp, std::uint64_t seed) const {
-    lsp.validate();
-    Scan out;
-    out.profile_poses = lsp.profile_poses(path);
-    const CounterGaussian gauss(seed);
-    for (std::size_t k = 0; k < out.profile_poses.size(); ++k) {
-      const Pose& pose = out.profile_poses[k];
-      for (int i = 0; i < lsp.points_per_profile; ++i) {
-        ++out.rays_cast;
-        const Vec3 d = pose.linear() * lsp.ray_direction_sensor(i);
-        bool on_sphere = false;
-        std::optional<double> t = sphere.hit(pose.translation(), d, on_sphere);  // sphere or pedestal
-        const std::optional<double> tb = block_hit(pose.translation(), d);
-        const bool on_object = tb && (!t || *tb < *t) ? true : on_sphere;
-        if (tb && (!t || *tb < *t)) t = tb;
-        if (!t || !on_object || !lsp.range.contains(*t)) continue;
-        const double noisy = *t + lsp.noise.sigma_m(*t) * gauss(k, static_cast<std::uint64_t>(i));
-        out.add_point(pose.translation() + noisy * d, static_cast<std::uint32_t>(k));
-      }
-    }
-    return out;
+    return scan_analytic([this](const Vec3& o, const Vec3& d, bool& on) { return hit(o, d, on); }, path, lsp, seed);
   }
 };
 
