@@ -42,26 +42,38 @@ struct SphereOnPedestal {
     return {center - Vec3::Constant(radius_m), center + Vec3::Constant(radius_m)};
   }
 
-  [[nodiscard]] Scan scan(const LinearScanPath& path, const LaserStripeProfiler& lsp, std::uint64_t seed) const {
-    lsp.validate();
-    Scan out;
-    out.profile_poses = lsp.profile_poses(path);
-    const CounterGaussian gauss(seed);
-    for (std::size_t k = 0; k < out.profile_poses.size(); ++k) {
-      const Pose& pose = out.profile_poses[k];
-      for (int i = 0; i < lsp.points_per_profile; ++i) {
-        ++out.rays_cast;
-        const Vec3 d = pose.linear() * lsp.ray_direction_sensor(i);
-        bool on_sphere = false;
-        const auto t = hit(pose.translation(), d, on_sphere);
-        if (!t || !on_sphere || !lsp.range.contains(*t)) continue;
-        const double noisy = *t + lsp.noise.sigma_m(*t) * gauss(k, static_cast<std::uint64_t>(i));
-        out.add_point(pose.translation() + noisy * d, static_cast<std::uint32_t>(k));
-      }
-    }
-    return out;
-  }
+  [[nodiscard]] Scan scan(const LinearScanPath& path, const LaserStripeProfiler& lsp, std::uint64_t seed) const;
 };
+
+/// A scan of an analytic object: `hit(o, d, on_object)` returns the distance along unit d from o to the first hit
+/// (setting on_object when it is the object, not the pedestal); points on the object within the sensor's range,
+/// with its noise along the ray (CounterGaussian by seed, profile and ray).
+template <class Hit>
+[[nodiscard]] Scan scan_analytic(const Hit& hit, const LinearScanPath& path, const LaserStripeProfiler& lsp,
+                                 std::uint64_t seed) {
+  lsp.validate();
+  Scan out;
+  out.profile_poses = lsp.profile_poses(path);
+  const CounterGaussian gauss(seed);
+  for (std::size_t k = 0; k < out.profile_poses.size(); ++k) {
+    const Pose& pose = out.profile_poses[k];
+    for (int i = 0; i < lsp.points_per_profile; ++i) {
+      ++out.rays_cast;
+      const Vec3 d = pose.linear() * lsp.ray_direction_sensor(i);
+      bool on_object = false;
+      const std::optional<double> t = hit(pose.translation(), d, on_object);
+      if (!t || !on_object || !lsp.range.contains(*t)) continue;
+      const double noisy = *t + lsp.noise.sigma_m(*t) * gauss(k, static_cast<std::uint64_t>(i));
+      out.add_point(pose.translation() + noisy * d, static_cast<std::uint32_t>(k));
+    }
+  }
+  return out;
+}
+
+inline Scan SphereOnPedestal::scan(const LinearScanPath& path, const LaserStripeProfiler& lsp,
+                                   std::uint64_t seed) const {
+  return scan_analytic([this](const Vec3& o, const Vec3& d, bool& on) { return hit(o, d, on); }, path, lsp, seed);
+}
 
 /// The bounding box of the unknown area around SphereOnPedestal: pedestal plane z = 0 up to above the top.
 inline Aabb sphere_box() { return {Vec3(-0.06, -0.06, 0.0), Vec3(0.06, 0.06, 0.10)}; }

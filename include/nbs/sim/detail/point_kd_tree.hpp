@@ -62,6 +62,16 @@ public:
     tree_->findNeighbors(result, q.data(), KdSearchParameters());
   }
 
+  /// Index and squared distance of the nearest point p with (p − q).squaredNorm() ≤ r² for which `accept(index)`
+  /// holds; {size(), +inf} if there is none. One pruned descent: the bound shrinks only with accepted points.
+  template <class Accept>
+  [[nodiscard]] std::pair<std::size_t, double> nearest_within(const Vec3& q, double r, Accept&& accept) const {
+    if (size() == 0) return {0, std::numeric_limits<double>::infinity()};
+    NearestAccepted<Accept> result{&data_->points, q, r * r, accept};
+    tree_->findNeighbors(result, q.data(), KdSearchParameters());
+    return {result.found ? result.index : size(), result.best};
+  }
+
 private:
   struct Data {
     std::vector<Vec3> points;
@@ -102,6 +112,25 @@ private:
     bool addPoint(double, std::uint32_t i) {
       const double d2 = ((*points)[i] - q).squaredNorm();
       if (d2 <= radius2) f(static_cast<std::size_t>(i), d2);
+      return true;
+    }
+  };
+
+  template <class Accept>
+  struct NearestAccepted {
+    const std::vector<Vec3>* points;
+    Vec3 q;
+    double radius2;
+    Accept& accept;
+    std::size_t index = 0;
+    double best = std::numeric_limits<double>::infinity();
+    bool found = false;
+    [[nodiscard]] bool full() const { return true; }
+    [[nodiscard]] double worstDist() const { return prune_bound(found ? best : radius2); }
+    bool addPoint(double, std::uint32_t i) {
+      const double d2 = ((*points)[i] - q).squaredNorm();
+      if (d2 <= radius2 && (d2 < best || (d2 == best && i < index)) && accept(static_cast<std::size_t>(i)))
+        index = i, best = d2, found = true;
       return true;
     }
   };
