@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
-# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz]
-#   --with-plots  adds python3-matplotlib for benchmarks/plots
-#   --with-fuzz   adds clang and libFuzzer for scripts/fuzz.sh
+# Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz] [--with-bench-incumbents]
+#   --with-plots             adds python3-matplotlib for benchmarks/plots
+#   --with-fuzz              adds clang and libFuzzer for scripts/fuzz.sh
+#   --with-bench-incumbents  adds the benchmark-only incumbents (scripts/bench.sh passes it): Open3D and PCL for
+#                            bench_registration. Neither the library nor its tests need them (scripts/test.sh does
+#                            not pass it); each bench builds without them.
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -15,6 +18,7 @@ for arg in "$@"; do
   case $arg in
     --with-plots) packages+=(python3-matplotlib python3-numpy) ;;
     --with-fuzz) packages+=(clang libclang-rt-dev) ;;
+    --with-bench-incumbents) packages+=(libopen3d-dev libpcl-dev) ;;
     *) echo "install-deps: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
