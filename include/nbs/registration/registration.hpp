@@ -53,7 +53,7 @@ struct RegistrationResult {
   int iterations = 0;                 ///< iterations run
   double rms_before_m = 0.0;          ///< point-to-plane RMS of the first iteration's correspondences, metres
   double rms_after_m = 0.0;           ///< same after the correction (last iteration's correspondences), metres
-  double condition = 0.0;             ///< λ_min / λ_max of the scaled 6×6 normal matrix of the first iteration
+  double condition = 0.0;             ///< smallest λ_min / λ_max of the scaled 6×6 normal matrix over the iterations run
   double t_s = 0.0;                   ///< wall-clock time of the step, seconds
   std::string reason;                 ///< for a refusal: what was measured against which bound
 
