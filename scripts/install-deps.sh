@@ -2,11 +2,15 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs every Debian package nbs uses (idempotent: only what is missing; sudo only when not root).
 # Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz] [--with-docs] [--with-browser] [--with-npm]
-#   --with-plots  adds python3-matplotlib for benchmarks/plots
-#   --with-fuzz   adds clang and libFuzzer for scripts/fuzz.sh
-#   --with-docs   adds doxygen and graphviz for scripts/docs.sh
-#   --with-browser adds chromium for the session viewer's browser test (tests/viewer)
-#   --with-npm    adds npm for scripts/install-viewer.sh (three.js)
+#                                [--with-bench-incumbents]
+#   --with-plots             adds python3-matplotlib for benchmarks/plots
+#   --with-fuzz              adds clang and libFuzzer for scripts/fuzz.sh
+#   --with-docs              adds doxygen and graphviz for scripts/docs.sh
+#   --with-browser           adds chromium for the session viewer's browser test (tests/viewer)
+#   --with-npm               adds npm for scripts/install-viewer.sh (three.js)
+#   --with-bench-incumbents  adds the benchmark-only incumbents (scripts/bench.sh passes it): Open3D and PCL for
+#                            bench_registration. Neither the library nor its tests need them (scripts/test.sh does
+#                            not pass it); each bench builds without them.
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
@@ -21,6 +25,7 @@ for arg in "$@"; do
     --with-docs) packages+=(doxygen graphviz) ;;
     --with-browser) packages+=(chromium) ;;
     --with-npm) packages+=(npm) ;;
+    --with-bench-incumbents) packages+=(libopen3d-dev libpcl-dev) ;;
     *) echo "install-deps: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
