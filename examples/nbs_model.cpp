@@ -11,6 +11,8 @@
 #include "nbs/planner/runtime_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -98,19 +100,32 @@ std::string numbered(const char* stem, int n, const char* ext) {
   return buf;
 }
 
-/// Picture of `mesh` (may be empty) with candidate segments; the chosen one (index `chosen`, if any) drawn wider.
+/// What every picture shows besides the mesh (issue 24): the pedestal as a disc under the unknown area, the world
+/// axes at its corner (x red, y green, z blue) and the scan paths flown so far (dark grey, 2 px).
+struct Stage {
+  nbs::embree::Disc pedestal;
+  std::array<nbs::embree::Segment, 3> axes;
+  std::vector<nbs::embree::Segment> flown;
+};
+
+/// Picture (800 × 600, compressed PNG) of `mesh` (may be empty) on `stage` with candidate segments coloured by
+/// utility; the chosen one (index `chosen`, if any) blue and wider.
 void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const nbs::embree::Camera& cam,
-                   const std::vector<nbs::LinearScanPath>& paths, const std::vector<double>& utility,
-                   std::optional<std::size_t> chosen, unsigned threads) {
+                   const Stage& stage, const std::vector<nbs::LinearScanPath>& paths,
+                   const std::vector<double>& utility, std::optional<std::size_t> chosen, unsigned threads) {
   std::optional<nbs::embree::Scene> scene;
   if (!mesh.triangles.empty()) scene.emplace(mesh);
   const std::vector<double> u01 = nbs::normalize_utilities(utility);
-  std::vector<nbs::embree::Segment> segs;
+  std::vector<nbs::embree::Segment> segs(stage.flown.begin(), stage.flown.end());
+  segs.insert(segs.end(), stage.axes.begin(), stage.axes.end());
   for (std::size_t i = 0; i < paths.size(); ++i)
     if (i != chosen) segs.push_back({paths[i].start().position(), paths[i].end_position(), nbs::utility_color(u01[i]), 1});
   if (chosen) segs.push_back({paths[*chosen].start().position(), paths[*chosen].end_position(), {0, 90, 255}, 3});
   nbs::embree::RenderSetting rs;
+  rs.width = 800;
+  rs.height = 600;
   rs.threads = threads;
+  rs.pedestal = stage.pedestal;
   const nbs::embree::Image img = nbs::embree::render(scene ? &*scene : nullptr, cam, segs, rs);
   nbs::png::write_png(path, img.width, img.height, img.rgb);
 }
@@ -243,12 +258,16 @@ int run(const Options& opt) {
   // --pose-error: the scans are then bit-identical) is applied to the reported scan.
   PoseErrorDriver driver(SimulatedDriver(scanner, planner.sensor(), opt.seed), opt.pose.setting(opt.seed));
 
-  // Fixed camera framing the object and the candidate paths (≈ d_s = 0.3 m from the surface).
+  // Fixed camera framing the object with a margin of 0.4 d_s, so that it fills a good part of the picture; the
+  // candidate paths (≈ d_s = 0.3 m from the surface) are drawn where they enter the frame.
   Aabb view = unknown;
-  const double reach = 0.5 * (lsp.range.min_m + lsp.range.max_m);
-  view.min -= Vec3(reach, reach, 0.0);
-  view.max += Vec3(reach, reach, reach);
-  const embree::Camera cam = embree::Camera::around(view, -1.0, 0.5, 0.5, 1.15);
+  const double margin = 0.4 * 0.5 * (lsp.range.min_m + lsp.range.max_m);
+  view.min -= Vec3(margin, margin, 0.0);
+  view.max += Vec3(margin, margin, margin);
+  const embree::Camera cam = embree::Camera::around(view, -1.0, 0.5, 0.5, 1.0);
+  Stage stage{embree::Disc{Vec3(unknown.center().x(), unknown.center().y(), 0.0),
+                           0.6 * std::max(unknown.extent().x(), unknown.extent().y()), {235, 225, 205}},
+              embree::axes(Vec3(unknown.min.x(), unknown.min.y(), 0.0), 0.03), {}};
   double t_render = 0.0;
 
   TruthTracker gt(truth);
@@ -263,6 +282,7 @@ int run(const Options& opt) {
     const Scan scan = driver.acquire(path);
     const IntegrationReport rep = planner.integrate(scan);
     l_s += path.length();
+    stage.flown.push_back({path.start().position(), path.end_position(), {60, 60, 60}, 2});
     gt.update(planner.mesh());
     if (viewer) viewer->add_scan(planner.mesh(), path);
     const Completeness c = gt.coverage.completeness();
@@ -288,7 +308,8 @@ int run(const Options& opt) {
     const LinearScanPath p0 = planner.initial_scan(first);
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
-      write_picture(file(opt, numbered("view", 1, "png")), IndexedMesh{}, cam, {p0}, {1.0}, std::size_t{0}, opt.threads);
+      write_picture(file(opt, numbered("view", 1, "png")), IndexedMesh{}, cam, stage, {p0}, {1.0}, std::size_t{0},
+                    opt.threads);
       t_render += seconds_since(t);
     }
     execute(p0, IterationStats{}, 1, 0.0);
@@ -326,8 +347,8 @@ int run(const Options& opt) {
     if (viewer) viewer->add_candidates(n, paths, utility);
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
-      write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, paths, utility,
-                    std::size_t{0}, opt.threads);
+      write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, stage, paths,
+                    utility, std::size_t{0}, opt.threads);
       t_render += seconds_since(t);
     }
     execute(plan.candidate->path, plan.stats, plan.stats.evaluated, plan.stats.best_utility);
@@ -338,8 +359,9 @@ int run(const Options& opt) {
   const std::uint64_t voxels = write_voxels_ply(planner.space(), file(opt, "voxels.ply"));
   if (opt.images && !model.triangles.empty()) {
     const auto t = std::chrono::steady_clock::now();
-    write_picture(file(opt, "final.png"), model, embree::Camera::around(unknown, -1.0, 0.5, 0.5, 1.0), {}, {},
-                  std::nullopt, opt.threads);
+    const Stage final_stage{stage.pedestal, stage.axes, {}};
+    write_picture(file(opt, "final.png"), model, embree::Camera::around(unknown, -1.0, 0.5, 0.5, 0.95), final_stage,
+                  {}, {}, std::nullopt, opt.threads);
     t_render += seconds_since(t);
   }
   const auto t_obs = std::chrono::steady_clock::now();
