@@ -37,6 +37,12 @@ struct ScanRow {
   // With --pose-error / --registration only (RunRecord::pose):
   double pose_t_mm = 0;    ///< residual pose error after registration: |R·c − c| at the true points' centroid, mm
   double pose_r_deg = 0;   ///< its rotation angle, degrees (residual_pose_error, sim/pose_error.hpp)
+  /// The same relative to the model's frame, i.e. to where the first scan was placed (R · E₁⁻¹): the part a
+  /// registration to the model can correct (the first scan's own error E₁ moves the whole model and is not seen by
+  /// any registration). 0 for the first scan.
+  double pose_rel_t_mm = 0;
+  double pose_rel_r_deg = 0;
+  double e_bar_rel_m = 0;  ///< ē with the vertices mapped by E₁⁻¹ into the true frame (= e_bar_m without error)
   std::string registration;  ///< the registration status (to_string(RegistrationStatus))
   double icp_s = 0;        ///< time of the registration step (RegistrationResult::t_s), seconds
 };
@@ -56,6 +62,7 @@ struct RunRecord {
   /// Share of the final mesh's vertices farther than 2σ (sensor range noise at the planner's standoff) from the
   /// true surface.
   double double_surface_share = 0;
+  double double_surface_share_rel = 0;  ///< the same with the vertices mapped by E₁⁻¹ (see ScanRow::pose_rel_t_mm)
   std::vector<ScanRow> scans;
 };
 
@@ -78,13 +85,19 @@ struct RunRecord {
   if (r.pose) {
     col("pose_t_mm", [](const ScanRow& x) { return x.pose_t_mm; });
     col("pose_r_deg", [](const ScanRow& x) { return x.pose_r_deg; });
+    col("pose_rel_t_mm", [](const ScanRow& x) { return x.pose_rel_t_mm; });
+    col("pose_rel_r_deg", [](const ScanRow& x) { return x.pose_rel_r_deg; });
+    col("e_bar_rel_m", [](const ScanRow& x) { return x.e_bar_rel_m; });
     col("registration", [](const ScanRow& x) { return x.registration; });
     col("icp_s", [](const ScanRow& x) { return x.icp_s; });
   }
   Json j{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
          {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
          {"scans", std::move(s)}};
-  if (r.pose) j["double_surface_share"] = r.double_surface_share;
+  if (r.pose) {
+    j["double_surface_share"] = r.double_surface_share;
+    j["double_surface_share_rel"] = r.double_surface_share_rel;
+  }
   return j;
 }
 
@@ -120,12 +133,16 @@ struct RunRecord {
   r.pose = j.contains("double_surface_share");
   if (r.pose) {
     r.double_surface_share = j.at("double_surface_share").get<double>();
-    for (const char* key : {"pose_t_mm", "pose_r_deg", "registration", "icp_s"})
+    r.double_surface_share_rel = j.at("double_surface_share_rel").get<double>();
+    for (const char* key : {"pose_t_mm", "pose_r_deg", "pose_rel_t_mm", "pose_rel_r_deg", "e_bar_rel_m", "registration", "icp_s"})
       if (s.at(key).size() != n) throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
     for (std::size_t i = 0; i < n; ++i) {
       ScanRow& x = r.scans[i];
       x.pose_t_mm = s["pose_t_mm"][i].get<double>();
       x.pose_r_deg = s["pose_r_deg"][i].get<double>();
+      x.pose_rel_t_mm = s["pose_rel_t_mm"][i].get<double>();
+      x.pose_rel_r_deg = s["pose_rel_r_deg"][i].get<double>();
+      x.e_bar_rel_m = s["e_bar_rel_m"][i].get<double>();
       x.registration = s["registration"][i].get<std::string>();
       x.icp_s = s["icp_s"][i].get<double>();
     }

@@ -94,7 +94,18 @@ struct RunContext {
   rec.c_obs = ctx.c_obs;
   CoverageTracker tracker = ctx.truth.tracker();
   std::size_t seen_vertices = 0;
-  double sum_sq = 0.0;
+  double sum_sq = 0.0, sum_sq_rel = 0.0;
+  // With a pose error: E₁⁻¹, the map from the model's frame (where the first scan was placed) to the true frame.
+  Pose model_to_true = Pose::Identity();
+  // Distances to the true surface of `points` mapped by `to_true` (empty for no points).
+  const auto true_distances = [&](const std::vector<Vec3>& points, const Pose& to_true) {
+    std::vector<Vec3> mapped(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) mapped[i] = to_true * points[i];
+    return mapped.empty() ? std::vector<double>{} : ctx.truth.distance().distances(mapped, 1);
+  };
+  const auto add_sq = [&](const std::vector<Vec3>& points, const Pose& to_true, double& sum) {
+    for (double d : true_distances(points, to_true)) sum += d * d;
+  };
   bool reached = false;
   std::vector<Vec3> fresh;
   const auto on_scan = [&](const ScanRecord& r) {
@@ -107,8 +118,11 @@ struct RunContext {
     // its later PCA-plane projection (docs/evaluation.md, c_a and ē).
     seen_vertices = mesh.vertex_count();
     tracker.add(fresh);
-    if (!fresh.empty())
-      for (double d : ctx.truth.distance().distances(fresh, 1)) sum_sq += d * d;
+    add_sq(fresh, Pose::Identity(), sum_sq);
+    if (ctx.pose.active()) {
+      if (r.scan == 1) model_to_true = driver.last_error().true_to_reported.inverse();
+      add_sq(fresh, model_to_true, sum_sq_rel);
+    }
     const Completeness c = tracker.completeness();
     ScanRow row;
     row.c_m = r.integration.estimated_coverage;
@@ -126,6 +140,10 @@ struct RunContext {
       const PoseResidual res = residual_pose_error(e.true_to_reported, reg.correction, e.true_centroid);
       row.pose_t_mm = 1e3 * res.translation_m;
       row.pose_r_deg = res.rotation_rad * 180.0 / std::numbers::pi;
+      const PoseResidual rel = residual_pose_error(e.true_to_reported, model_to_true * reg.correction, e.true_centroid);
+      row.pose_rel_t_mm = 1e3 * rel.translation_m;
+      row.pose_rel_r_deg = rel.rotation_rad * 180.0 / std::numbers::pi;
+      row.e_bar_rel_m = seen_vertices ? std::sqrt(sum_sq_rel / static_cast<double>(seen_vertices)) : 0.0;
       row.registration = std::string(to_string(reg.status));
       row.icp_s = reg.t_s;
     }
@@ -146,10 +164,14 @@ struct RunContext {
     std::vector<Vec3> all(mesh.vertex_count());
     for (std::size_t v = 0; v < all.size(); ++v) all[v] = mesh.position(static_cast<VertexId>(v));
     const double limit = double_surface_threshold_m(planner);
-    std::size_t far = 0;
-    if (!all.empty())
-      for (double d : ctx.truth.distance().distances(all, 1)) far += d > limit ? 1 : 0;
-    rec.double_surface_share = all.empty() ? 0.0 : static_cast<double>(far) / static_cast<double>(all.size());
+    // Share of the vertices, mapped by `to_true`, farther than `limit` from the true surface.
+    const auto far_share = [&](const Pose& to_true) {
+      std::size_t far = 0;
+      for (double d : true_distances(all, to_true)) far += d > limit ? 1 : 0;
+      return all.empty() ? 0.0 : static_cast<double>(far) / static_cast<double>(all.size());
+    };
+    rec.double_surface_share = far_share(Pose::Identity());
+    rec.double_surface_share_rel = far_share(model_to_true);
   }
   if (static_cast<int>(res.records.size()) >= ctx.n_abort) rec.stop = "max_scans";
   else rec.stop = res.stop == LoopStop::no_candidates ? "no_candidates" : "done";

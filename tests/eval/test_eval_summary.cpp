@@ -456,10 +456,14 @@ TEST_CASE("pose fields: JSON round trip and the run's means", "[eval][pose_error
   CHECK_FALSE(nbs::eval::to_json(r).contains("double_surface_share"));  // without the options: as before
   r.pose = true;
   r.double_surface_share = 0.25;
+  r.double_surface_share_rel = 0.125;
   const double t[] = {1.0, 0.5, 0.0}, a[] = {0.1, 0.1, 0.4};
   for (int i = 0; i < 3; ++i) {
     r.scans[i].pose_t_mm = t[i];
     r.scans[i].pose_r_deg = a[i];
+    r.scans[i].pose_rel_t_mm = 0.5 * t[i];
+    r.scans[i].pose_rel_r_deg = 0.5 * a[i];
+    r.scans[i].e_bar_rel_m = 1e-3 * (i + 1);
     r.scans[i].registration = i == 0 ? "refused_empty_model" : "applied";
     r.scans[i].icp_s = 0.01 * i;
   }
@@ -467,7 +471,12 @@ TEST_CASE("pose fields: JSON round trip and the run's means", "[eval][pose_error
   CHECK(j.at("scans").at("registration")[1] == "applied");
   const nbs::eval::RunRecord back = nbs::eval::record_from_json(Json::parse(j.dump()));
   CHECK(back.pose);
+  CHECK(back.double_surface_share_rel == 0.125);
+  CHECK(back.scans[2].e_bar_rel_m == 3e-3);
   CHECK(nbs::eval::to_json(back) == j);
+  Json missing = j;  // a pose record without a series is malformed
+  missing["scans"].erase("pose_rel_t_mm");
+  CHECK_THROWS(nbs::eval::record_from_json(missing));
   const nbs::eval::RunOutcome o = nbs::eval::outcome(back);
   CHECK(o.mean_pose_t_mm == Approx(0.5));
   CHECK(o.mean_pose_r_deg == Approx(0.2));
@@ -513,16 +522,26 @@ TEST_CASE("CLI: --pose-error runs: new fields consistent, zero error identical t
   CHECK_FALSE(plain[0].contains("double_surface_share"));
   CHECK_FALSE(plain[0]["scans"].contains("pose_t_mm"));
   // Zero error: the scans are bit-identical, so everything but the timing and the new fields is equal.
-  for (const char* k : {"pose_t_mm", "pose_r_deg", "icp_s"})
+  for (const char* k : {"pose_t_mm", "pose_r_deg", "pose_rel_t_mm", "pose_rel_r_deg", "icp_s"})
     for (const Json& v : zero[0]["scans"][k]) CHECK(v.get<double>() == 0.0);
   for (const Json& v : zero[0]["scans"]["registration"]) CHECK(v == "not_run");
+  // Without error the model's frame is the true one: the relative measures equal the absolute ones.
+  CHECK(zero[0]["scans"]["e_bar_rel_m"] == zero[0]["scans"]["e_bar_m"]);
+  CHECK(zero[0]["double_surface_share_rel"] == zero[0]["double_surface_share"]);
   zero[0].erase("double_surface_share");
-  for (const char* k : {"pose_t_mm", "pose_r_deg", "registration", "icp_s"}) zero[0]["scans"].erase(k);
+  zero[0].erase("double_surface_share_rel");
+  for (const char* k : {"pose_t_mm", "pose_r_deg", "pose_rel_t_mm", "pose_rel_r_deg", "e_bar_rel_m", "registration", "icp_s"})
+    zero[0]["scans"].erase(k);
   CHECK(without_timing(zero[0]) == without_timing(plain[0]));
   // 1 mm, 0.1°, the ICP refusing on this branch or correcting: per scan a status, and without a correction the
   // residual is E itself: 0.1° exactly, |t| within 1 mm ± the lever arm 2 sin(0.05°)·|c − s0| (|c − s0| < 0.5 m).
   const Json& s = err[0]["scans"];
   REQUIRE(s["pose_t_mm"].size() == 2);
+  // The first scan defines the model's frame: its relative error is zero (E₁⁻¹ · E₁), its ē_rel that of the true
+  // placement, which is not larger than ē by more than the 1 mm shift.
+  CHECK(s["pose_rel_t_mm"][0].get<double>() < 1e-9);
+  CHECK(s["pose_rel_r_deg"][0].get<double>() < 1e-6);
+  CHECK(s["e_bar_rel_m"][0].get<double>() <= s["e_bar_m"][0].get<double>() + 1e-3);
   for (std::size_t i = 0; i < 2; ++i) {
     INFO("scan " << i);
     CHECK(s["registration"][i].is_string());
