@@ -125,7 +125,6 @@ template <NormalMesh Mesh>
 RegistrationResult Icp::run(const Scan& scan, const Mesh& mesh, std::chrono::steady_clock::time_point t0) const {
   setting.validate();
   const IcpSetting& s = setting;
-  constexpr std::uint32_t kNoMatch = ~std::uint32_t{0};
   RegistrationResult r;
   auto finish = [&](RegistrationStatus status, std::string reason = {}) {
     r.status = status;
@@ -187,25 +186,16 @@ RegistrationResult Icp::run(const Scan& scan, const Mesh& mesh, std::chrono::ste
   Pose estimate = Pose::Identity();
   Pose last_update = Pose::Identity();
   double min_condition = std::numeric_limits<double>::infinity();
-  // Search hints (speed only, the answers do not depend on them): a point's match in the previous iteration, else
-  // the previous scan point's match (scan points come in scan order, neighbours match neighbouring vertices).
-  std::vector<std::uint32_t> match(used.size(), kNoMatch);
   for (int it = 0; it < s.iterations; ++it) {
     corr.clear();
     const Mat3 rot = estimate.linear();
-    std::size_t last = mp.size();
-    for (std::size_t u = 0; u < used.size(); ++u) {
-      const std::uint32_t i = used[u];
+    for (const std::uint32_t i : used) {
       const Vec3 q = estimate * scan.points[i];
       const Vec3 n = rot * normals[i];
       const std::size_t best =
-          model
-              .nearest_within(q, s.radius_m, [&](std::size_t j) { return model_normals[j].dot(n) >= cos_gate; },
-                              match[u] != kNoMatch ? match[u] : last)
+          model.nearest_within(q, s.radius_m, [&](std::size_t j) { return model_normals[j].dot(n) >= cos_gate; })
               .first;
-      match[u] = best == mp.size() ? kNoMatch : static_cast<std::uint32_t>(best);
       if (best == mp.size()) continue;
-      last = best;
       corr.push_back({q, model_normals[best], model_normals[best].dot(q - mp[best])});
     }
     if (s.trim_factor > 0.0 && !corr.empty()) {

@@ -64,18 +64,10 @@ public:
 
   /// Index and squared distance of the nearest point p with (p − q).squaredNorm() ≤ r² for which `accept(index)`
   /// holds; {size(), +inf} if there is none. One pruned descent: the bound shrinks only with accepted points.
-  ///
-  /// `hint` (optional, e.g. the answer for a nearby earlier query) only speeds the search up: if it is a point within
-  /// r of q that `accept`s, the descent starts with its distance as the bound. The answer is the same with any hint.
   template <class Accept>
-  [[nodiscard]] std::pair<std::size_t, double> nearest_within(const Vec3& q, double r, Accept&& accept,
-                                                              std::size_t hint = std::numeric_limits<std::size_t>::max()) const {
+  [[nodiscard]] std::pair<std::size_t, double> nearest_within(const Vec3& q, double r, Accept&& accept) const {
     if (size() == 0) return {0, std::numeric_limits<double>::infinity()};
     NearestAccepted<Accept> result{&data_->points, q, r * r, accept};
-    if (hint < size()) {
-      const double d2 = (data_->points[hint] - q).squaredNorm();
-      if (d2 <= result.radius2 && accept(hint)) result.index = hint, result.best = d2, result.found = true;
-    }
     tree_->findNeighbors(result, q.data(), KdSearchParameters());
     return {result.found ? result.index : size(), result.best};
   }
