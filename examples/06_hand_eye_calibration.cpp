@@ -17,12 +17,13 @@
 #include <utility>
 #include <vector>
 
-#include "analytic_scanner.hpp"  // nbs::test::SphereOnPedestal: exact ray casts at a sphere (tests/planner/support)
 #include "nbs/driver/concepts.hpp"
 #include "nbs/planner/nbs_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/registration/hand_eye.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
+#include "nbs/sensor/presets.hpp"
+#include "nbs/sim/sphere_on_pedestal.hpp"  // nbs::SphereOnPedestal: exact ray casts at a sphere
 
 using nbs::Pose;
 using nbs::Vec3;
@@ -112,7 +113,7 @@ public:
     return scan;
   }
 
-  nbs::test::SphereOnPedestal sphere_;  // the object: radius 4 cm, standing on the pedestal
+  nbs::SphereOnPedestal sphere_;  // the object: radius 4 cm, standing on the pedestal
 
 private:
   Pose T_FS_, T_WF_ = Pose::Identity();
@@ -125,8 +126,10 @@ static_assert(nbs::ScanDriver<FlangeRobot>);
 /// vertices to the true sphere (m).
 double model_rms_distance(const Pose& T_FS, const char* label) {
   nbs::Parameters params;
-  const nbs::LaserStripeProfiler sensor = nbs::test::light_lsp();
-  nbs::NbsPlanner<> planner(params, sensor, nbs::test::sphere_box());
+  nbs::LaserStripeProfiler sensor = nbs::presets::dlr_lsp();
+  sensor.points_per_profile = 200;   // fewer rays and 2 mm between profiles: the example runs in seconds
+  sensor.profile_spacing_m = 0.002;
+  nbs::NbsPlanner<> planner(params, sensor, nbs::SphereOnPedestal{}.unknown_area());
   FlangeRobot robot(T_FS, sensor);
   nbs::SimulationSetting loop;
   loop.max_scans = 8;

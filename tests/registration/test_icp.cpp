@@ -9,6 +9,7 @@
 
 #include "nbs/registration/icp.hpp"
 #include "nbs/registration/scan_normals.hpp"
+#include "nbs/registration/selectable_registration.hpp"
 #include "conformance/registration_conformance.hpp"
 #include "support/synthetic.hpp"
 
@@ -269,4 +270,20 @@ TEST_CASE("scan normals: PCA normals towards the sensor; isolated and collinear 
   sparse.add_point(Vec3(0.05, 0.05, 0.0), 0);
   for (const Vec3& v : nbs::estimate_scan_normals(sparse, {.radius_m = 0.003})) CHECK(v.squaredNorm() == 0.0);
   CHECK_THROWS_AS(nbs::estimate_scan_normals(sparse, {.radius_m = 0.0}), nbs::InvalidArgument);
+}
+
+TEST_CASE("icp: the prevalidated form gives the same result; the planner calls it after its own check",
+          "[registration][icp]") {
+  const Surface surface = box_corner();
+  const PointModel model = model_of(surface);
+  const Scan exact = scan_of(surface, Vec3(0.25, 0.2, 0.22), Vec3(0.01, 0.01, 0.01), 2e-5, 7);
+  const Scan moved = nbs::transformed(exact, error_at(centroid(exact)));
+  const Icp icp;
+  const RegistrationResult a = icp.register_scan(moved, model),
+                           b = icp.register_scan(moved, model, nbs::prevalidated_scan);
+  REQUIRE(a.status == RegistrationStatus::applied);
+  nbs::conformance::check_same_result(a, b);
+  static_assert(nbs::TakesPrevalidatedScan<Icp, PointModel>);
+  static_assert(nbs::TakesPrevalidatedScan<nbs::SelectableRegistration, PointModel>);
+  static_assert(!nbs::TakesPrevalidatedScan<nbs::NoRegistration, PointModel>);
 }

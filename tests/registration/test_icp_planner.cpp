@@ -5,6 +5,7 @@
 
 #include "nbs_catch.hpp"
 
+#include <limits>
 #include <numbers>
 
 #include "nbs/planner/nbs_planner.hpp"
@@ -134,4 +135,39 @@ TEST_CASE("icp planner: the sphere alone is refused as degenerate and integrated
     CHECK(a.meshed == b.meshed);
   }
   CHECK(icp.mesh().vertex_count() == plain.mesh().vertex_count());
+}
+
+namespace {
+/// Counts which form of register_scan the planner calls.
+struct CountingRegistration {
+  int* plain;
+  int* prevalidated;
+  template <class Mesh>
+  nbs::RegistrationResult register_scan(const Scan&, const Mesh&) {
+    return ++*plain, nbs::RegistrationResult{};
+  }
+  template <class Mesh>
+  nbs::RegistrationResult register_scan(const Scan&, const Mesh&, nbs::PrevalidatedScan) {
+    return ++*prevalidated, nbs::RegistrationResult{};
+  }
+};
+}  // namespace
+
+TEST_CASE("icp planner: integrate validates once and calls the prevalidated form", "[registration][planner]") {
+  const nbs::test::SphereAndBlock object;
+  using CountingPlanner =
+      nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler, nbs::NoCollisions,
+                      nbs::DefaultTermination, nbs::ProbabilisticVoxelSpace<>, nbs::NoiseRobustStreamingMesh,
+                      nbs::UnseenLoopCoverage, CountingRegistration>;
+  int plain = 0, prevalidated = 0;
+  CountingPlanner planner({}, precise_lsp(), sphere_box());
+  planner.registration = {&plain, &prevalidated};
+  Scan scan = object.scan(path_at(20.0), planner.sensor(), 120);
+  REQUIRE(!scan.empty());
+  (void)planner.integrate(scan);
+  CHECK(prevalidated == 1);
+  CHECK(plain == 0);
+  scan.points[3].x() = std::numeric_limits<double>::quiet_NaN();  // bad input: a clear error, no registration run
+  CHECK_THROWS_AS(planner.integrate(scan), nbs::InvalidArgument);
+  CHECK(prevalidated == 1);
 }

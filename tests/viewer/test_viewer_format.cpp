@@ -167,3 +167,16 @@ TEST_CASE("viewer format: face records reproduce the mesh of every scan", "[view
         std::vector<std::uint8_t>(worst.begin(), worst.end()));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("viewer decimation: clusters per cell, and a vertex beyond the packable cells throws", "[viewer]") {
+  nbs::IndexedMesh m;
+  m.vertices = {nbs::Vec3(0.0, 0.0, 0.0), nbs::Vec3(0.001, 0.0, 0.0), nbs::Vec3(0.05, 0.0, 0.0),
+                nbs::Vec3(0.05, 0.05, 0.0)};
+  m.triangles = {{0, 2, 3}, {1, 2, 3}};
+  const nbs::IndexedMesh d = nbs::tools::viewer::detail::decimate(m, 0.01);
+  CHECK(d.vertices.size() == 3);   // 0 and 1 share a cell
+  CHECK(d.triangles.size() == 1);  // the two faces become one
+  // 1 km at 0.1 mm cells: 10^7 cells, beyond the 2^20 of the key packing.
+  m.vertices.push_back(nbs::Vec3(1000.0, 0.0, 0.0));
+  CHECK_THROWS_WITH(nbs::tools::viewer::detail::decimate(m, 1e-4), nbs_test::Contains("viewer decimation"));
+}

@@ -26,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nbs/core/detail/cell_key.hpp"
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan_path.hpp"
 #include "nbs/core/types.hpp"
@@ -218,7 +219,8 @@ struct Blob {
 }
 
 /// Vertex-clustering decimation of `mesh` on a grid of cell `cell_m` (a cluster's vertex is its mean; faces whose
-/// three clusters differ are kept, duplicates removed).
+/// three clusters differ are kept, duplicates removed). Throws InvalidArgument if a vertex lies more than 2²⁰ cells
+/// from the mesh's minimum (or is not finite).
 [[nodiscard]] inline IndexedMesh decimate(const IndexedMesh& mesh, double cell_m) {
   struct Acc {
     Vec3 sum = Vec3::Zero();
@@ -229,8 +231,7 @@ struct Blob {
   const Aabb b = mesh.bounds();
   std::vector<std::uint64_t> cell_of(mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    const Vec3 c = ((mesh.vertices[v] - b.min) / cell_m).array().floor();
-    const std::uint64_t key = (std::uint64_t(c.x()) << 42) | (std::uint64_t(c.y()) << 21) | std::uint64_t(c.z());
+    const std::uint64_t key = nbs::detail::pack_cell_key_checked((mesh.vertices[v] - b.min) / cell_m, "viewer decimation");
     cell_of[v] = key;
     Acc& a = cells[key];
     a.sum += mesh.vertices[v];

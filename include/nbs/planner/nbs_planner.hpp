@@ -144,7 +144,11 @@ public:
     Scan corrected;
     const Scan* registered = &scan_in;
     if (!scan_in.empty()) {
-      r.registration = registration.register_scan(scan_in, std::as_const(*mesh_));
+      // scan_in was validated above: a policy that offers it skips its own check (PrevalidatedScan).
+      if constexpr (TakesPrevalidatedScan<Registration, Mesh>)
+        r.registration = registration.register_scan(scan_in, std::as_const(*mesh_), prevalidated_scan);
+      else
+        r.registration = registration.register_scan(scan_in, std::as_const(*mesh_));
       if (r.registration.applied()) {
         corrected = transformed(scan_in, r.registration.correction);
         registered = &corrected;

@@ -68,9 +68,10 @@ struct IcpSetting {
 /// (refused_degenerate: a plane, a sphere, a sphere beside one plane do not fix all six DoF); the estimate moves the
 /// centroid of the used scan points farther than max_translation_m or rotates more than max_rotation_rad
 /// (refused_large_correction).
-/// Throws InvalidArgument for an invalid scan (Scan::validate) or setting. Cost O(n + k log k + i·n log k) for n scan
-/// points, k cropped model vertices and i iterations; serial and deterministic (bit-identical results for the same
-/// input). Const: concurrent calls on one Icp are safe.
+/// Throws InvalidArgument for an invalid setting, or an invalid scan (Scan::validate; not checked again by the
+/// prevalidated_scan form, which NbsPlanner::integrate calls after its own check). Cost O(n + k log k + i·n log k)
+/// for n scan points, k cropped model vertices and i iterations; serial and deterministic (bit-identical results for
+/// the same input). Const: concurrent calls on one Icp are safe.
 class Icp {
 public:
   IcpSetting setting{};
@@ -78,8 +79,23 @@ public:
   Icp() { setting.validate(); }
   explicit Icp(const IcpSetting& s) : setting(s) { setting.validate(); }
 
+  /// Validates `scan` (Scan::validate: InvalidArgument, nothing computed), then registers it.
   template <NormalMesh Mesh>
-  [[nodiscard]] RegistrationResult register_scan(const Scan& scan, const Mesh& mesh) const;
+  [[nodiscard]] RegistrationResult register_scan(const Scan& scan, const Mesh& mesh) const {
+    const auto t0 = std::chrono::steady_clock::now();
+    scan.validate();
+    return run(scan, mesh, t0);
+  }
+  /// The same for a scan the caller has validated already (NbsPlanner::integrate): no second O(n) check.
+  template <NormalMesh Mesh>
+  [[nodiscard]] RegistrationResult register_scan(const Scan& scan, const Mesh& mesh, PrevalidatedScan) const {
+    return run(scan, mesh, std::chrono::steady_clock::now());
+  }
+
+private:
+  template <NormalMesh Mesh>
+  [[nodiscard]] RegistrationResult run(const Scan& scan, const Mesh& mesh,
+                                       std::chrono::steady_clock::time_point t0) const;
 };
 
 inline void IcpSetting::validate() const {
@@ -106,9 +122,7 @@ inline void IcpSetting::validate() const {
 }
 
 template <NormalMesh Mesh>
-RegistrationResult Icp::register_scan(const Scan& scan, const Mesh& mesh) const {
-  const auto t0 = std::chrono::steady_clock::now();
-  scan.validate();
+RegistrationResult Icp::run(const Scan& scan, const Mesh& mesh, std::chrono::steady_clock::time_point t0) const {
   setting.validate();
   const IcpSetting& s = setting;
   RegistrationResult r;

@@ -70,6 +70,20 @@ struct RegistrationResult {
   return out;
 }
 
+/// Tag of the three-argument `register_scan(scan, mesh, prevalidated_scan)`: the caller has already checked `scan`
+/// with Scan::validate (NbsPlanner::integrate does, before anything changes), so the policy skips its own O(n)
+/// check. The two-argument form, the one for user input, always validates.
+struct PrevalidatedScan {
+  explicit PrevalidatedScan() = default;
+};
+inline constexpr PrevalidatedScan prevalidated_scan{};
+
+/// True if policy R offers the prevalidated form (NbsPlanner then calls it after its own Scan::validate).
+template <class R, class Mesh>
+concept TakesPrevalidatedScan = requires(R& r, const Scan& scan, const Mesh& mesh) {
+  { r.register_scan(scan, mesh, prevalidated_scan) } -> std::same_as<RegistrationResult>;
+};
+
 /// A model with per-vertex normals that a scan can be registered to (StreamingMesh, NoiseRobustStreamingMesh).
 template <class M>
 concept NormalMesh = requires(const M& m, VertexId v) {

@@ -9,9 +9,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
+#include "nbs/core/detail/cell_key.hpp"
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan.hpp"
 #include "nbs/core/types.hpp"
@@ -39,7 +39,6 @@ struct ScanNormalSetting {
   std::vector<Vec3> normals(scan.size(), Vec3::Zero());
   if (scan.empty()) return normals;
   const double edge = 2.0 * s.radius_m / 3.0;
-  constexpr double kMaxCell = 1 << 20;
   Vec3 lo = scan.points[0];
   for (const Vec3& p : scan.points) lo = lo.cwiseMin(p);
 
@@ -52,26 +51,22 @@ struct ScanNormalSetting {
     int state = 0;  // 0 not computed, 1 normal, 2 none
     Vec3 normal = Vec3::Zero();
   };
-  auto pack = [](const Eigen::Vector3i& k) {
-    return (static_cast<std::uint64_t>(k.x()) << 42) | (static_cast<std::uint64_t>(k.y()) << 21) |
-           static_cast<std::uint64_t>(k.z());
-  };
   std::vector<Cell> cells;
-  std::unordered_map<std::uint64_t, std::uint32_t> index;
-  index.reserve(scan.size() / 4 + 16);
-  std::vector<std::uint32_t> cell_of(scan.size(), UINT32_MAX);
+  detail::CellKeyMap index(scan.size() / 4);
+  std::vector<std::uint32_t> cell_of(scan.size(), detail::CellKeyMap::kNone);
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const Vec3 f = ((scan.points[i] - lo) / edge).array().floor();
-    if (!(f.maxCoeff() < kMaxCell - 1.0)) continue;
-    const Eigen::Vector3i k = f.cast<int>() + Eigen::Vector3i::Ones();  // ≥ 1: the neighbours' keys stay ≥ 0
-    const auto [it, fresh] = index.try_emplace(pack(k), static_cast<std::uint32_t>(cells.size()));
+    // The cell and its neighbours (one more) must pack: cells ≥ 0 from the box minimum, at most kMaxCellIndex − 1.
+    if (!(f.maxCoeff() < detail::kMaxCellIndex)) continue;
+    const Eigen::Vector3i k = f.cast<int>();
+    const auto [id, fresh] = index.try_emplace(detail::pack_cell_key(k), static_cast<std::uint32_t>(cells.size()));
     if (fresh) cells.push_back(Cell{k});
-    Cell& c = cells[it->second];
-    const Vec3 d = scan.points[i] - (lo + edge * (k - Eigen::Vector3i::Ones()).cast<double>());
+    Cell& c = cells[id];
+    const Vec3 d = scan.points[i] - (lo + edge * k.cast<double>());
     c.count += 1.0;
     c.sum += d;
     c.outer.noalias() += d * d.transpose();
-    cell_of[i] = it->second;
+    cell_of[i] = id;
   }
 
   auto cell_normal = [&](Cell& c) {
@@ -81,9 +76,9 @@ struct ScanNormalSetting {
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const auto found = index.find(pack(c.key + Eigen::Vector3i(dx, dy, dz)));
-          if (found == index.end()) continue;
-          const Cell& o = cells[found->second];
+          const std::uint32_t found = index.find(detail::pack_cell_key(c.key + Eigen::Vector3i(dx, dy, dz)));
+          if (found == detail::CellKeyMap::kNone) continue;
+          const Cell& o = cells[found];
           // Moments about c's corner: d' = d + t with t the offset of o's corner.
           const Vec3 t = edge * Vec3(dx, dy, dz);
           count += o.count;
@@ -102,7 +97,7 @@ struct ScanNormalSetting {
   };
 
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (cell_of[i] == UINT32_MAX) continue;
+    if (cell_of[i] == detail::CellKeyMap::kNone) continue;
     Cell& c = cells[cell_of[i]];
     if (c.state == 0) cell_normal(c);
     if (c.state != 1) continue;

@@ -36,6 +36,12 @@ struct SelectableRegistration {
     if (method == RegistrationMethod::none) return NoRegistration{}.register_scan(scan, mesh);
     return Icp(icp).register_scan(scan, mesh);
   }
+  /// The same for a scan the caller has validated already (see PrevalidatedScan).
+  template <NormalMesh Mesh>
+  [[nodiscard]] RegistrationResult register_scan(const Scan& scan, const Mesh& mesh, PrevalidatedScan tag) const {
+    if (method == RegistrationMethod::none) return NoRegistration{}.register_scan(scan, mesh);
+    return Icp(icp).register_scan(scan, mesh, tag);
+  }
 };
 
 }  // namespace nbs

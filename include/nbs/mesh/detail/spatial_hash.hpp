@@ -15,16 +15,17 @@
 #include <cstdint>
 #include <vector>
 
+#include "nbs/core/detail/cell_key.hpp"
 #include "nbs/core/types.hpp"
 
 namespace nbs::detail {
 
 class SpatialHash {
-  /// Largest |cell index| on an axis: 2^20 − 1, so that index + 2^20 fits the 21 bits per axis of key_of().
-  static constexpr double kMaxCell = 1048575.0;
+  /// Largest |cell index| on an axis: 2^20 − 1 = kMaxCellIndex, so that every (clamped) cell packs (cell_key.hpp).
+  static constexpr double kMaxCell = kMaxCellIndex;
 
 public:
-  explicit SpatialHash(double cell_m = 0.003) : cell_m_(cell_m), inv_cell_(1.0 / cell_m) { rehash(256); }
+  explicit SpatialHash(double cell_m = 0.003) : cell_m_(cell_m), inv_cell_(1.0 / cell_m), slots_(128) {}
 
   [[nodiscard]] double cell_size() const { return cell_m_; }
 
@@ -40,17 +41,13 @@ public:
   /// Adds point `id` at `p`.
   void insert(const Vec3& p, std::uint32_t id) {
     const Eigen::Vector3i c = cell_of(p);
-    const std::uint64_t key = key_of(block_of(c));
-    if (2 * (used_ + 1) > slots_.size()) rehash(slots_.size() * 2);
-    Slot& slot = slots_[find_slot(key)];
-    if (slot.key == kEmpty) {
-      slot.key = key;
-      slot.block = static_cast<std::uint32_t>(blocks_.size());
+    const auto [block, fresh] =
+        slots_.try_emplace(pack_cell_key(block_of(c)), static_cast<std::uint32_t>(blocks_.size()));
+    if (fresh) {
       blocks_.emplace_back();
       blocks_.back().fill(0);
-      ++used_;
     }
-    std::uint32_t& bucket = blocks_[slot.block][local_of(c)];
+    std::uint32_t& bucket = blocks_[block][local_of(c)];
     if (bucket == 0) {
       buckets_.emplace_back();
       bucket = static_cast<std::uint32_t>(buckets_.size());
@@ -59,7 +56,7 @@ public:
   }
 
   /// Key of the cell of `p`; keys grow with the cells' (x, y, z) in lexicographic order.
-  [[nodiscard]] std::uint64_t cell_key(const Vec3& p) const { return key_of(cell_of(p)); }
+  [[nodiscard]] std::uint64_t cell_key(const Vec3& p) const { return pack_cell_key(cell_of(p)); }
 
   /// Calls `f(id, position)` for every stored point whose cell intersects the ball of radius `r` around `p` (cells
   /// are visited in x, y, z order, i.e. by ascending cell_key(), points of a cell in insertion order). The caller
@@ -145,18 +142,13 @@ public:
 
   /// Heap bytes used by the table and the buckets (approximate: capacity-based).
   [[nodiscard]] std::size_t memory_bytes() const {
-    std::size_t b = slots_.capacity() * sizeof(Slot) + blocks_.capacity() * sizeof(Block) +
+    std::size_t b = slots_.memory_bytes() + blocks_.capacity() * sizeof(Block) +
                     buckets_.capacity() * sizeof(std::vector<Entry>);
     for (const auto& v : buckets_) b += v.capacity() * sizeof(Entry);
     return b;
   }
 
 private:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-  struct Slot {
-    std::uint64_t key = kEmpty;
-    std::uint32_t block = 0;
-  };
   /// A stored point.
   struct Entry {
     Vec3 p;
@@ -168,15 +160,15 @@ private:
   /// Cell lookups of one query: remembers the last block looked up (a query's cells come in runs per block).
   struct CellLookup {
     const SpatialHash& h;
-    std::uint64_t key = kEmpty;
+    std::uint64_t key = ~std::uint64_t{0};  // no packed key
     const Block* block = nullptr;
     /// The points of cell c, or nullptr if it has none.
     [[nodiscard]] const std::vector<Entry>* cell(const Eigen::Vector3i& c) {
-      const std::uint64_t k = key_of(block_of(c));
+      const std::uint64_t k = pack_cell_key(block_of(c));
       if (k != key) {
         key = k;
-        const Slot& slot = h.slots_[h.find_slot(k)];
-        block = slot.key == kEmpty ? nullptr : &h.blocks_[slot.block];
+        const std::uint32_t b = h.slots_.find(k);
+        block = b == CellKeyMap::kNone ? nullptr : &h.blocks_[b];
       }
       if (block == nullptr) return nullptr;
       const std::uint32_t b = (*block)[local_of(c)];
@@ -211,36 +203,12 @@ private:
     };
     return {c(p.x()), c(p.y()), c(p.z())};
   }
-  [[nodiscard]] static std::uint64_t key_of(const Eigen::Vector3i& c) {
-    constexpr std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-    return ((static_cast<std::uint64_t>(c.x() + 1048576) & mask) << 42) |
-           ((static_cast<std::uint64_t>(c.y() + 1048576) & mask) << 21) |
-           (static_cast<std::uint64_t>(c.z() + 1048576) & mask);
-  }
-  /// Linear probing from the splitmix64 finaliser of the key (every key bit reaches the low bits used as slot).
-  [[nodiscard]] std::size_t find_slot(std::uint64_t key) const {
-    std::uint64_t h = key;
-    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
-    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-    h ^= h >> 31;
-    const std::size_t m = slots_.size() - 1;
-    std::size_t s = static_cast<std::size_t>(h) & m;
-    while (slots_[s].key != kEmpty && slots_[s].key != key) s = (s + 1) & m;
-    return s;
-  }
-  void rehash(std::size_t capacity) {
-    std::vector<Slot> old(capacity);
-    old.swap(slots_);
-    for (const Slot& o : old)
-      if (o.key != kEmpty) slots_[find_slot(o.key)] = o;
-  }
 
   double cell_m_;
   double inv_cell_;
-  std::vector<Slot> slots_;                  ///< block key → index in blocks_
+  CellKeyMap slots_;                         ///< packed block key → index in blocks_
   std::vector<Block> blocks_;
   std::vector<std::vector<Entry>> buckets_;  ///< the points of each non-empty cell
-  std::size_t used_ = 0;
 };
 
 }  // namespace nbs::detail
