@@ -4,7 +4,7 @@
 #   1. installs the build into a prefix, then moves the prefix (the package must be relocatable) and checks that no
 #      installed CMake or pkg-config file names the build tree, the source tree or the prefix, and that no exported
 #      target holds an absolute path (dependencies by imported target only);
-#   2. find_package(nbs REQUIRED COMPONENTS embree octomap fcl ompl png): builds tests/downstream, which links and runs
+#   2. find_package(nbs REQUIRED COMPONENTS embree octomap fcl ompl png kdl): builds tests/downstream, which links and runs
 #      every adapter (each check has a known answer);
 #   3. a required component that is unknown, and one whose dependency is missing (octomap hidden by
 #      CMAKE_DISABLE_FIND_PACKAGE_octomap, which also takes fcl; libpng hidden likewise), fail naming the component
