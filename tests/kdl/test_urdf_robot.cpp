@@ -243,20 +243,18 @@ TEST_CASE("lwr4.urdf: the object on the pedestal is reachable at 0.3 m standoff 
   const UrdfRobot r = lwr();
   const JointVector home = joints({0, 0.6, 0, -1.2, 0, 0.9, 0});
   const Vec3 centre(0, 0, 0.08);  // an object 0.16 m tall on the pedestal
-  int reachable = 0, total = 0;
-  for (int el = 10; el <= 90; el += 20)
-    for (int az = 0; az < 360; az += 30) {
-      if (el == 90 && az > 0) continue;
-      const double e = el * kPi / 180, a = az * kPi / 180;
-      const Vec3 eye = centre + 0.3 * Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      bool ok = false;
-      for (int roll = 0; roll < 4 && !ok; ++roll) ok = r.ik(look_at(eye, centre, roll * kPi / 2), home).has_value();
-      reachable += ok ? 1 : 0;
-      ++total;
-    }
-  std::printf("kdl hemisphere at 0.3 m standoff: %d / %d viewpoints reachable (%.0f %%)\n", reachable, total,
-              100.0 * reachable / total);
-  CHECK(reachable >= total / 2);
+  const HemisphereReach h = hemisphere_reach(r, centre, 0.3, home);
+  std::printf("kdl hemisphere at 0.3 m standoff: %d / %d viewpoints reachable (%.0f %%)\n", h.reachable, h.total,
+              100.0 * h.share());
+  CHECK(h.total == 49);
+  CHECK(h.share() >= 0.5);
+  CHECK_NOTHROW(require_object_in_reach(r, centre, 0.3, home));
+  // The base 3 m away: no viewpoint is reachable, refused before any work with the measured share.
+  Pose far = Pose::Identity();
+  far.translation() = Vec3(-3.0, 0, 0);
+  const UrdfRobot away = UrdfRobot::load(kUrdf, "world", "lwr_flange", "sensor", far);
+  CHECK_THROWS_WITH(require_object_in_reach(away, centre, 0.3, home),
+                    nbs_test::Contains("out of the robot's reach: 0 of 49 viewpoints at standoff"));
 }
 
 TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming the file, link or value", "[kdl]") {

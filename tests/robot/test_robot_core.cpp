@@ -230,3 +230,23 @@ TEST_CASE("JointLimits::validate names the joint and the values", "[robot]") {
   l.upper[1] = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_AS(l.validate(), InvalidArgument);
 }
+
+TEST_CASE("hemisphere_reach and require_object_in_reach", "[robot]") {
+  const Vec3 centre(0, 0, 0.08);
+  const HemisphereReach all = hemisphere_reach(FreeFlyingSensor{}, centre, 0.3, JointVector::Zero(6));
+  CHECK(all.total == 49);
+  CHECK(all.reachable == 49);
+  CHECK_NOTHROW(require_object_in_reach(FreeFlyingSensor{}, centre, 0.3, JointVector::Zero(6), 1.0));
+  // The planar arm reaches at most 0.8 m from its base: an object 5 m away is refused, naming the share.
+  const PlanarArm a;
+  CHECK(hemisphere_reach(a, Vec3(5, 0, 0), 0.3, jv(0, 0, 0)).reachable == 0);
+  CHECK_THROWS_WITH(require_object_in_reach(a, Vec3(5, 0, 0), 0.3, jv(0, 0, 0)),
+                    nbs_test::Contains("out of the robot's reach: 0 of 49 viewpoints at standoff"));
+  // In its plane and in reach, the viewpoints at azimuth 0° and 180° and straight above are found (roll 270°
+  // aligns the sensor's y with the arm's axis +y); the others leave the plane.
+  const HemisphereReach planar = hemisphere_reach(a, Vec3(0.2, 0, 0.1), 0.3, jv(0.5, 0.5, 0.5));
+  CHECK(planar.reachable > 0);
+  CHECK(planar.reachable <= 9);
+  CHECK_THROWS_AS(hemisphere_reach(a, centre, 0.0, jv(0, 0, 0)), InvalidArgument);
+  CHECK_THROWS_AS(require_object_in_reach(a, centre, 0.3, jv(0, 0, 0), 0.0), InvalidArgument);
+}

@@ -9,12 +9,14 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "nbs/core/scan_path.hpp"
+#include "nbs/core/viewpoint.hpp"
 #include "nbs/robot/robot.hpp"
 
 namespace nbs {
@@ -126,6 +128,57 @@ template <Robot R, ConfigurationCheck Check = AcceptAllConfigurations>
     previous = *q;
   }
   return out;
+}
+
+/// How much of the view hemisphere over an object the robot reaches (`hemisphere_reach`).
+struct HemisphereReach {
+  int reachable = 0;
+  int total = 0;
+  [[nodiscard]] double share() const { return total > 0 ? static_cast<double>(reachable) / total : 0.0; }
+};
+
+/// Viewpoints looking at `centre` from `standoff_m` at elevations 10°, 30°, 50°, 70° (azimuths every 30°) and 90°
+/// (49 in all), a viewpoint counted reachable if IK from `seed` succeeds at any of four rolls about the viewing
+/// direction (0°, 90°, 180°, 270°). World frame, metres. Throws InvalidArgument for a non-finite centre, a standoff
+/// not > 0 or a bad seed.
+template <Robot R>
+[[nodiscard]] HemisphereReach hemisphere_reach(const R& robot, const Vec3& centre, double standoff_m,
+                                               const JointVector& seed) {
+  validate_finite(centre, "hemisphere_reach centre");
+  detail::require_positive("hemisphere_reach standoff_m", standoff_m);
+  validate_joint_vector(seed, robot.joint_count(), "hemisphere_reach seed");
+  HemisphereReach out;
+  const double deg = std::numbers::pi / 180.0;
+  for (int el = 10; el <= 90; el += 20)
+    for (int az = 0; az < (el == 90 ? 1 : 360); az += 30) {
+      const double e = el * deg, a = az * deg;
+      const Vec3 eye = centre + standoff_m * Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+      const Pose look = Viewpoint::look_at(eye, centre, el == 90 ? Vec3::UnitX() : Vec3::UnitZ()).pose();
+      bool ok = false;
+      for (int roll = 0; roll < 4 && !ok; ++roll) {
+        Pose T = look;
+        T.linear() = look.linear() * Eigen::AngleAxisd(roll * 90.0 * deg, Vec3::UnitZ()).toRotationMatrix();
+        ok = robot.ik(T, seed).has_value();
+      }
+      out.reachable += ok ? 1 : 0;
+      ++out.total;
+    }
+  return out;
+}
+
+/// Refuses a set-up in which the robot cannot view the object: throws InvalidArgument naming the centre, the
+/// standoff and the measured share unless `hemisphere_reach(...).share() ≥ min_share` (in (0, 1]). Call it before
+/// any work (it costs 49–196 IK solves).
+template <Robot R>
+void require_object_in_reach(const R& robot, const Vec3& centre, double standoff_m, const JointVector& seed,
+                             double min_share = 0.25) {
+  detail::require(std::isfinite(min_share) && min_share > 0.0 && min_share <= 1.0,
+                  "require_object_in_reach min_share must be in (0, 1], got ", min_share);
+  const HemisphereReach h = hemisphere_reach(robot, centre, standoff_m, seed);
+  detail::require(h.share() >= min_share, "the object at (", centre.x(), ", ", centre.y(), ", ", centre.z(),
+                  ") is out of the robot's reach: ", h.reachable, " of ", h.total, " viewpoints at standoff ",
+                  standoff_m, " m are reachable (", h.share(), " < min_share ", min_share,
+                  "); move the robot's base or the object");
 }
 
 }  // namespace nbs
