@@ -13,6 +13,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <thread>
 
 #include "conformance/robot_conformance.hpp"
 #include "nbs/kdl/urdf_robot.hpp"
@@ -181,6 +182,22 @@ TEST_CASE("UrdfRobot: IK round trips over random reachable poses, deterministic"
   CHECK(poses_agree(r.fk(*a), T, 1e-4, 1.745e-3));
 }
 
+TEST_CASE("UrdfRobot: const members run concurrently with the sequential answers", "[kdl]") {
+  const UrdfRobot r = lwr();
+  std::mt19937_64 rng(5);
+  const JointVector home = joints({0, 0.6, 0, -1.2, 0, 0.9, 0});
+  std::vector<Pose> targets;
+  for (int i = 0; i < 20; ++i) targets.push_back(r.fk(conformance::random_joints(r.joint_limits(), rng, kPi)));
+  std::vector<std::optional<JointVector>> seq, a(targets.size()), b(targets.size());
+  for (const Pose& T : targets) seq.push_back(r.ik(T, home));
+  std::thread t1([&] { for (std::size_t i = 0; i < targets.size(); ++i) a[i] = r.ik(targets[i], home); });
+  std::thread t2([&] { for (std::size_t i = targets.size(); i-- > 0;) b[i] = r.ik(targets[i], home); });
+  t1.join();
+  t2.join();
+  CHECK(a == seq);
+  CHECK(b == seq);
+}
+
 TEST_CASE("UrdfRobot passes the Robot conformance suite", "[kdl]") {
   conformance::RobotCase c;
   c.samples = 30;
@@ -252,7 +269,9 @@ TEST_CASE("lwr4.urdf: the object on the pedestal is reachable at 0.3 m standoff 
   // The base 3 m away: no viewpoint is reachable, refused before any work with the measured share.
   Pose far = Pose::Identity();
   far.translation() = Vec3(-3.0, 0, 0);
-  const UrdfRobot away = UrdfRobot::load(kUrdf, "world", "lwr_flange", "sensor", far);
+  kdl::IkSetting few;
+  few.restarts = 3;  // every attempt fails here; fewer keep the test short
+  const UrdfRobot away = UrdfRobot::load(kUrdf, "world", "lwr_flange", "sensor", far, few);
   CHECK_THROWS_WITH(require_object_in_reach(away, centre, 0.3, home),
                     nbs_test::Contains("out of the robot's reach: 0 of 49 viewpoints at standoff"));
 }
