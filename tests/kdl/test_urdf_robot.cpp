@@ -276,6 +276,19 @@ TEST_CASE("lwr4.urdf: the object on the pedestal is reachable at 0.3 m standoff 
                     nbs_test::Contains("out of the robot's reach: 0 of 49 viewpoints at standoff"));
 }
 
+TEST_CASE("UrdfRobot without movable joints: the one sensor pose or nothing", "[kdl]") {
+  const auto path = temp_urdf("fixed", R"(<robot name="fixed"><link name="b"/><link name="s"/>
+    <joint name="m" type="fixed"><parent link="b"/><child link="s"/><origin xyz="0.1 0.2 0.3" rpy="0 0 0"/></joint>
+    </robot>)");
+  const UrdfRobot r = UrdfRobot::load(path, "b", "b", "s");
+  std::filesystem::remove(path);
+  CHECK(r.joint_count() == 0);
+  const JointVector none(0);
+  CHECK((r.fk(none).translation() - Vec3(0.1, 0.2, 0.3)).norm() < 1e-15);
+  CHECK(r.ik(r.fk(none), none));
+  CHECK_FALSE(r.ik(make_pose(Mat3::Identity(), Vec3(0, 0, 0)), none));
+}
+
 TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming the file, link or value", "[kdl]") {
   const std::string urdf = shipped_text();
   using nbs_test::Contains;
@@ -312,5 +325,9 @@ TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming th
   CHECK(r.ik_setting().restarts == kdl::IkSetting{}.restarts);  // unchanged
   CHECK_THROWS_AS(r.set_hand_eye(bad), InvalidArgument);
   CHECK(poses_agree(r.hand_eye(), make_pose(rz(kPi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
-  for (const auto& p : {broken, inverted, nan}) std::filesystem::remove(p);
+  const auto floating = temp_urdf("floating", replaced(urdf, R"(<joint name="lwr_a3" type="revolute">)",
+                                                       R"(<joint name="lwr_a3" type="floating">)"));
+  CHECK_THROWS_WITH(UrdfRobot::load(floating, "world", "lwr_flange", "sensor"),
+                    Contains("joint 'lwr_a3' has a type nbs::kdl does not support"));
+  for (const auto& p : {broken, inverted, nan, floating}) std::filesystem::remove(p);
 }

@@ -148,7 +148,8 @@ public:
   /// joints only (or be the flange), which gives T_FS; `T_WB` places the base link in the world. Throws FileError
   /// (naming the file) if it cannot be read or parsed, InvalidArgument (naming the file and the link, joint or value)
   /// for a missing link, a flange not below the base, a sensor not rigidly below the flange, an unsupported joint
-  /// type (floating, planar), a zero joint axis, NaN or inverted limits, a non-rigid `T_WB` or bad `ik` settings.
+  /// type (floating, planar) or a mimic joint, a zero joint axis, NaN or inverted limits, a non-rigid `T_WB` or bad
+  /// `ik` settings.
   [[nodiscard]] static UrdfRobot load(const std::filesystem::path& urdf, const std::string& base_link,
                                       const std::string& flange_link, const std::string& sensor_link,
                                       const Pose& T_WB = Pose::Identity(), const IkSetting& ik = {});
@@ -307,6 +308,8 @@ inline UrdfRobot UrdfRobot::load(const std::filesystem::path& urdf, const std::s
               file, ": joint '", j.name, "' has a type nbs::kdl does not support (floating or planar)");
       require(axis.allFinite() && axis.norm() > 1e-9, file, ": joint '", j.name, "' has axis (", axis.transpose(),
               ")");
+      require(j.mimic == nullptr, file, ": joint '", j.name, "' mimics joint '", j.mimic ? j.mimic->joint_name : "",
+              "' (mimic joints are not supported)");
       const bool prismatic = j.type == urdf::Joint::PRISMATIC;
       kj = KDL::Joint(j.name, f.p, a / a.Norm(), prismatic ? KDL::Joint::TransAxis : KDL::Joint::RotAxis);
       double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
@@ -342,6 +345,11 @@ inline std::optional<JointVector> UrdfRobot::ik(const Pose& T_WS, const JointVec
   validate_pose(T_WS, "UrdfRobot ik target T_WS");
   validate_joint_vector(seed, joint_count(), "UrdfRobot ik seed");
   const auto n = static_cast<Eigen::Index>(joint_count());
+  if (n == 0) {  // a fixed sensor: the one pose or nothing
+    const JointVector none(0);
+    if (poses_agree(fk(none), T_WS, ik_.position_tolerance_m, ik_.angle_tolerance_rad)) return none;
+    return std::nullopt;
+  }
   const KDL::Frame goal = detail_urdf::to_kdl(T_WB_.inverse() * flange_from_sensor(T_WS, T_FS_));
   Eigen::Matrix<double, 6, 1> weights;
   weights << 1, 1, 1, 1, 1, 1;
