@@ -329,5 +329,9 @@ TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming th
                                                        R"(<joint name="lwr_a3" type="floating">)"));
   CHECK_THROWS_WITH(UrdfRobot::load(floating, "world", "lwr_flange", "sensor"),
                     Contains("joint 'lwr_a3' has a type nbs::kdl does not support"));
-  for (const auto& p : {broken, inverted, nan, floating}) std::filesystem::remove(p);
+  const auto mimic = temp_urdf("mimic", replaced(urdf, R"(<child link="lwr_flange"/>)",
+                                                 R"(<child link="lwr_flange"/><mimic joint="lwr_a5"/>)"));
+  CHECK_THROWS_WITH(UrdfRobot::load(mimic, "world", "lwr_flange", "sensor"),
+                    Contains("joint 'lwr_a7' mimics joint 'lwr_a5'"));
+  for (const auto& p : {broken, inverted, nan, floating, mimic}) std::filesystem::remove(p);
 }
