@@ -7,10 +7,12 @@
 // both elbow branches, the one nearer the seed first. Reachable poses: y = 0, rotation about y, |w| ≤ l1 + l2.
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "nbs/robot/robot.hpp"
