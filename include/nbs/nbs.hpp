@@ -81,6 +81,7 @@
 #include "nbs/registration/selectable_registration.hpp"
 
 #include "nbs/robot/free_flying.hpp"
+#include "nbs/robot/link_collision.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "nbs/robot/robot.hpp"
 

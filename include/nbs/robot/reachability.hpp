@@ -3,8 +3,8 @@
 /// \file
 /// Can the robot fly a linear scan path (Sec. 4.3.2) with the sensor? `check_scan_path` samples T_WS along the path,
 /// solves IK at each sample from the previous sample's solution and rejects a step whose joints jump or leave their
-/// limits. Collisions are not checked here: a `ConfigurationCheck` (e.g. links against the voxel space, issue 19
-/// item 2) is the extension point and runs on every sampled configuration.
+/// limits. Collisions are not checked here: a `ConfigurationCheck` is the extension point and runs on every sampled
+/// configuration; `RobotPathChecker` (robot/link_collision.hpp) plugs in the links against the voxel space.
 
 #include <cmath>
 #include <cstddef>
@@ -41,7 +41,8 @@ enum class PathFailure {
   unreachable,            ///< IK found no solution at the step (value: the step's arc-length fraction t ∈ [0, 1])
   joint_jump,             ///< value: the largest joint change to the previous step
   joint_limit,            ///< value: the joint's value outside its limits
-  configuration_rejected  ///< the ConfigurationCheck refused the step (value: t ∈ [0, 1])
+  configuration_rejected,  ///< the ConfigurationCheck refused the step (value: t ∈ [0, 1])
+  collision                ///< a link collides at the step (RobotPathChecker; `link` names it; value: t ∈ [0, 1])
 };
 
 [[nodiscard]] inline std::string_view to_string(PathFailure f) {
@@ -51,6 +52,7 @@ enum class PathFailure {
     case PathFailure::joint_jump: return "joint_jump";
     case PathFailure::joint_limit: return "joint_limit";
     case PathFailure::configuration_rejected: return "configuration_rejected";
+    case PathFailure::collision: return "collision";
   }
   return "?";
 }
@@ -65,6 +67,7 @@ struct ScanPathReach {
   int joint = -1;
   double value = 0.0;
   std::size_t samples = 0;  ///< samples along the path (≥ 2 for a path longer than 0, 1 for a single viewpoint)
+  std::string link;         ///< the colliding link (PathFailure::collision only)
 
   [[nodiscard]] bool ok() const { return failure == PathFailure::none; }
 };
@@ -75,7 +78,7 @@ concept ConfigurationCheck = requires(const C& c, const JointVector& q, const Po
   { c(q, T_WS) } -> std::convertible_to<bool>;
 };
 
-/// Accepts every configuration (no collision check: issue 19 item 2 adds links against the voxel space).
+/// Accepts every configuration (no collision check; robot/link_collision.hpp checks the links against the voxel space).
 struct AcceptAllConfigurations {
   [[nodiscard]] bool operator()(const JointVector&, const Pose&) const { return true; }
 };
