@@ -135,7 +135,8 @@ TEST_CASE("lwr4.urdf: time of one link check against the bunny-sized unknown box
     const int n = 200;
     int collisions = 0;
     const auto t0 = Clock::now();
-    for (int i = 0; i < n; ++i) collisions += checker.links().collides(run.joints[static_cast<std::size_t>(i) % run.samples]);
+    for (int i = 0; i < n; ++i)
+      collisions += checker.links().collides(run.joints[static_cast<std::size_t>(i) % run.samples]);
     const auto t1 = Clock::now();
     // The forearm through the box with unknown voxels not counted: every voxel near the links inside the box is
     // tested and none is an obstacle (the most work one check does in this space).

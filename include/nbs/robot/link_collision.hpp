@@ -39,14 +39,14 @@ namespace nbs {
 /// What the links must not touch. Metres, world frame.
 struct LinkCollisionSetting {
   double obstacle_probability = 0.05;  ///< voxels with p above this are obstacles (Sec. 3.2.2), in [0, 1]
-  bool unknown_is_obstacle = true;     ///< unknown voxels (p = 0.5) count as obstacles (the thesis); false: only observed
+  bool unknown_is_obstacle = true;     ///< unknown voxels (p = 0.5) are obstacles (the thesis); false: observed only
   double safety_margin_m = 0.0;        ///< extra clearance around every shape (≥ 0)
   bool check_table = true;             ///< test the table half-space
   double table_height_m = 0.0;         ///< table top z (the pedestal top is z = 0 in nbs's world frame)
   Eigen::Vector2d table_min_xy = Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector2d table_max_xy = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   std::vector<std::string> table_exempt_links;  ///< links standing on the table by design (e.g. "lwr_base_link")
-  bool skip_mesh_shapes = false;                ///< true: mesh shapes are not checked (else the constructor refuses them)
+  bool skip_mesh_shapes = false;                ///< true: meshes are not checked (false: the constructor refuses them)
 
   /// Throws InvalidArgument naming the bad field.
   void validate() const {
@@ -187,8 +187,8 @@ private:
   // The table test of one shape with world AABB b: lowest point below the table top + margin, and b (inflated by the
   // margin) over the table's xy extent (conservative for a shape partly beside a finite table).
   [[nodiscard]] bool hits_table(const std::string& link, const Aabb& b) const {
-    if (!setting_.check_table || std::ranges::find(setting_.table_exempt_links, link) != setting_.table_exempt_links.end())
-      return false;
+    const auto& exempt = setting_.table_exempt_links;
+    if (!setting_.check_table || std::ranges::find(exempt, link) != exempt.end()) return false;
     const double m = setting_.safety_margin_m;
     return b.min.z() < setting_.table_height_m + m && b.max.x() + m >= setting_.table_min_xy.x() &&
            b.min.x() - m <= setting_.table_max_xy.x() && b.max.y() + m >= setting_.table_min_xy.y() &&
