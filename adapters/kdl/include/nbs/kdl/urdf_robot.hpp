@@ -198,9 +198,12 @@ private:
     validate_joint_vector(q, joint_count(), "UrdfRobot joint vector");
     std::vector<Pose> out{T_WB_};
     out.reserve(links_.size() + 1);
-    for (unsigned i = 0; i < chain_.getNrOfSegments(); ++i) {
+    // KDL::Joint::pose caches its last result in mutable members: a chain shared by concurrent const calls races,
+    // so every call works on its own copy (a few µs).
+    const KDL::Chain chain = chain_;
+    for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
       const int j = links_[i + 1].joint;
-      out.push_back(out.back() * detail_urdf::to_pose(chain_.getSegment(i).pose(j < 0 ? 0.0 : q[j])));
+      out.push_back(out.back() * detail_urdf::to_pose(chain.getSegment(i).pose(j < 0 ? 0.0 : q[j])));
     }
     return out;
   }
@@ -354,7 +357,8 @@ inline std::optional<JointVector> UrdfRobot::ik(const Pose& T_WS, const JointVec
   const KDL::Frame goal = detail_urdf::to_kdl(T_WB_.inverse() * flange_from_sensor(T_WS, T_FS_));
   Eigen::Matrix<double, 6, 1> weights;
   weights << 1, 1, 1, 1, 1, 1;
-  KDL::ChainIkSolverPos_LMA solver(chain_, weights, 1e-12, ik_.max_iterations, 1e-15);
+  const KDL::Chain chain = chain_;  // the solver's own copy: KDL::Joint::pose caches in mutable members (races)
+  KDL::ChainIkSolverPos_LMA solver(chain, weights, 1e-12, ik_.max_iterations, 1e-15);
   std::mt19937_64 rng(nbs::detail::splitmix64(ik_.seed));
   KDL::JntArray init(static_cast<unsigned>(n)), out(static_cast<unsigned>(n));
   for (int attempt = 0; attempt <= ik_.restarts; ++attempt) {
