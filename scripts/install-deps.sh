@@ -17,6 +17,7 @@ packages=(
   libeigen3-dev libnanoflann-dev libtinyobjloader-dev catch2 libbenchmark-dev
   libembree-dev liboctomap-dev libfcl-dev libpng-dev nlohmann-json3-dev libcli11-dev
   libompl-dev libboost-serialization-dev libboost-filesystem-dev libboost-system-dev libode-dev
+  liborocos-kdl-dev liburdfdom-dev
 )
 for arg in "$@"; do
   case $arg in

@@ -4,11 +4,11 @@
 #   1. installs the build into a prefix, then moves the prefix (the package must be relocatable) and checks that no
 #      installed CMake or pkg-config file names the build tree, the source tree or the prefix, and that no exported
 #      target holds an absolute path (dependencies by imported target only);
-#   2. find_package(nbs REQUIRED COMPONENTS embree octomap fcl ompl png): builds tests/downstream, which links and runs
+#   2. find_package(nbs REQUIRED COMPONENTS embree octomap fcl ompl png kdl): builds tests/downstream, which links and runs
 #      every adapter (each check has a known answer);
 #   3. a required component that is unknown, and one whose dependency is missing (octomap hidden by
-#      CMAKE_DISABLE_FIND_PACKAGE_octomap, which also takes fcl; libpng hidden likewise), fail naming the component
-#      and the reason; the same as OPTIONAL_COMPONENTS configures and says which one is missing;
+#      CMAKE_DISABLE_FIND_PACKAGE_octomap, which also takes fcl; libpng and urdfdom hidden likewise), fail naming the
+#      component and the reason; the same as OPTIONAL_COMPONENTS configures and says which one is missing;
 #   1b. runs the installed tools from the moved prefix (nbs_model loads the installed demo mesh);
 #   4. pkg-config: compiles and runs tests/downstream/main.cpp (core only) with `pkg-config --cflags --libs nbs`.
 set -euo pipefail
@@ -69,6 +69,9 @@ expect_failure missing_dependency \
 expect_failure missing_libpng \
   "required component 'png' is not available: its dependency, package 'PNG' 1.6, was not found" \
   "-DNBS_DOWNSTREAM_COMPONENTS=png" -DCMAKE_DISABLE_FIND_PACKAGE_PNG=TRUE
+expect_failure missing_urdfdom \
+  "required component 'kdl' is not available: its dependency, package 'urdfdom' , was not found" \
+  "-DNBS_DOWNSTREAM_COMPONENTS=kdl" -DCMAKE_DISABLE_FIND_PACKAGE_urdfdom=TRUE
 cmake -S tests/downstream -B "$work/optional" -DCMAKE_PREFIX_PATH="$prefix" -DNBS_DOWNSTREAM_COMPONENTS=embree \
   -DNBS_DOWNSTREAM_OPTIONAL=bogus >"$work/optional.log" 2>&1
 grep -qF "nbs: optional component 'bogus' is not available" "$work/optional.log"

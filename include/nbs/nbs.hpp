@@ -79,6 +79,12 @@
 #include "nbs/registration/icp.hpp"
 #include "nbs/registration/registration.hpp"
 #include "nbs/registration/selectable_registration.hpp"
+
+#include "nbs/robot/free_flying.hpp"
+#include "nbs/robot/link_collision.hpp"
+#include "nbs/robot/reachability.hpp"
+#include "nbs/robot/robot.hpp"
+
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"

@@ -29,6 +29,12 @@
 
 #include "nbs/png/write_png.hpp"
 #endif
+#ifdef NBS_DOWNSTREAM_HAS_KDL
+#include <filesystem>
+#include <fstream>
+
+#include "nbs/kdl/urdf_robot.hpp"
+#endif
 
 namespace {
 int failures = 0;
@@ -99,6 +105,20 @@ int main() {
     }
     std::filesystem::remove(path);
     check(image.width == 3 && image.height == 2 && back == px, "png (a 3 x 2 RGBA image decodes to its pixels)");
+  }
+#endif
+#ifdef NBS_DOWNSTREAM_HAS_KDL
+  {  // one revolute joint about z with a 0.5 m arm along x: at q = π/2 the sensor is at (0, 0.5, 0)
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / "nbs_downstream.urdf";
+    std::ofstream(path) << R"(<robot name="r"><link name="b"/><link name="f"/>
+      <joint name="j" type="revolute"><parent link="b"/><child link="f"/><origin xyz="0 0 0"/><axis xyz="0 0 1"/>
+      <limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>)";
+    auto robot = nbs::kdl::UrdfRobot::load(path, "b", "f", "f");
+    std::filesystem::remove(path);
+    robot.set_hand_eye(at(0.5, 0, 0));
+    nbs::JointVector q(1);
+    q << 1.5707963267948966;
+    check((robot.fk(q).translation() - nbs::Vec3(0, 0.5, 0)).norm() < 1e-12, "kdl (a one-joint URDF arm at 90 degrees)");
   }
 #endif
   return failures == 0 ? 0 : 1;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,6 +20,33 @@
 #include "nbs/space/voxel_key.hpp"
 
 namespace nbs {
+
+namespace detail {
+/// The voxel query shared by the collision checks (VoxelCollisionChecker, robot/link_collision.hpp): visits, in
+/// z-, y-, x-major order, the voxels of `space` inside its bounds (`bounds_keys()`) whose keys `grid().key_box` gives
+/// for the world box `box`, calling `hit(key, cube)` (cube: the voxel's world AABB) until it returns true; returns
+/// that key, or nullopt. Voxels outside the bounds are never visited (the space treats them as free).
+template <VoxelSpace Space, class Hit>
+[[nodiscard]] std::optional<VoxelKey> first_voxel_in(const Space& space, const Aabb& box, Hit&& hit) {
+  const KeyBox bounds = space.bounds_keys();
+  KeyBox kb = space.grid().key_box(box);
+  if (kb.empty() || bounds.empty()) return std::nullopt;
+  for (int a = 0; a < 3; ++a) {
+    kb.min[a] = std::max(kb.min[a], bounds.min[a]);
+    kb.max[a] = std::min(kb.max[a], bounds.max[a]);
+  }
+  if (kb.empty()) return std::nullopt;
+  const double l = space.grid().resolution_m();
+  for (std::int32_t z = kb.min.z; z <= kb.max.z; ++z)
+    for (std::int32_t y = kb.min.y; y <= kb.max.y; ++y)
+      for (std::int32_t x = kb.min.x; x <= kb.max.x; ++x) {
+        const VoxelKey k{x, y, z};
+        const Vec3 lo(x * l, y * l, z * l);
+        if (hit(k, Aabb{lo, lo + Vec3::Constant(l)})) return k;
+      }
+  return std::nullopt;
+}
+}  // namespace detail
 
 /// C tells whether the sensor head at pose T_WS (sensor → world, metres) collides with the environment.
 /// `collides` is const and may throw InvalidArgument for a non-finite or non-rigid pose.
@@ -99,24 +127,9 @@ public:
   }
   /// The voxel part of collides() only.
   [[nodiscard]] bool collides_voxels(const detail::OrientedBox& box) const {
-    const KeyBox bounds = space_->bounds_keys();
-    KeyBox kb = space_->grid().key_box(box.bounds());
-    if (kb.empty() || bounds.empty()) return false;
-    for (int a = 0; a < 3; ++a) {
-      kb.min[a] = std::max(kb.min[a], bounds.min[a]);
-      kb.max[a] = std::min(kb.max[a], bounds.max[a]);
-    }
-    if (kb.empty()) return false;
-    const double l = space_->grid().resolution_m();
-    for (std::int32_t z = kb.min.z; z <= kb.max.z; ++z)
-      for (std::int32_t y = kb.min.y; y <= kb.max.y; ++y)
-        for (std::int32_t x = kb.min.x; x <= kb.max.x; ++x) {
-          const VoxelKey k{x, y, z};
-          if (!(space_->probability(k) > setting_.obstacle_probability)) continue;
-          const Vec3 lo(x * l, y * l, z * l);
-          if (detail::overlaps(box, Aabb{lo, lo + Vec3::Constant(l)})) return true;
-        }
-    return false;
+    return detail::first_voxel_in(*space_, box.bounds(), [&](const VoxelKey& k, const Aabb& cube) {
+             return space_->probability(k) > setting_.obstacle_probability && detail::overlaps(box, cube);
+           }).has_value();
   }
 
 private:
