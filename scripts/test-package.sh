@@ -70,7 +70,7 @@ expect_failure missing_libpng \
   "required component 'png' is not available: its dependency, package 'PNG' 1.6, was not found" \
   "-DNBS_DOWNSTREAM_COMPONENTS=png" -DCMAKE_DISABLE_FIND_PACKAGE_PNG=TRUE
 expect_failure missing_urdfdom \
-  "required component 'kdl' is not available: its dependency, package 'urdfdom' , was not found" \
+  "required component 'kdl' is not available: its dependency, package 'urdfdom', was not found" \
   "-DNBS_DOWNSTREAM_COMPONENTS=kdl" -DCMAKE_DISABLE_FIND_PACKAGE_urdfdom=TRUE
 cmake -S tests/downstream -B "$work/optional" -DCMAKE_PREFIX_PATH="$prefix" -DNBS_DOWNSTREAM_COMPONENTS=embree \
   -DNBS_DOWNSTREAM_OPTIONAL=bogus >"$work/optional.log" 2>&1
