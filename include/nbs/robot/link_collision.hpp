@@ -16,7 +16,7 @@
 /// exempt by name (`table_exempt_links`); they are still checked against the voxels.
 /// Meshes: kept as file paths by the Robot concept, not loaded here — the constructor refuses a robot with mesh shapes
 /// unless `skip_mesh_shapes` is set, in which case they are not checked (a documented gap; approximate such links
-/// by primitives in the URDF's <collision>).
+/// by primitives in the URDF's `<collision>` elements).
 
 #include <Eigen/Core>
 
