@@ -89,7 +89,8 @@ struct ScanNormalSetting {
     if (count < static_cast<double>(s.min_neighbours)) return;
     const Vec3 mean = sum / count;
     const Mat3 cov = outer / count - mean * mean.transpose();
-    const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);  // eigenvalues ascending
+    Eigen::SelfAdjointEigenSolver<Mat3> eig;
+    eig.computeDirect(cov);  // closed form for 3 × 3 (Eigen scales and shifts the matrix first); ascending
     const Vec3 lambda = eig.eigenvalues();
     if (!(lambda[2] > 0.0) || !(lambda[1] >= s.min_planarity * lambda[2])) return;
     c.normal = eig.eigenvectors().col(0).normalized();
