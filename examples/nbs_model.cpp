@@ -167,11 +167,12 @@ struct Row {
   double utility = 0.0;
 };
 
-nbs::ObservabilitySettings observability_settings(const nbs::LaserStripeProfiler& lsp, const nbs::Parameters& p) {
+/// c_obs with the simulated scanner's own rule (its working range, any incidence), as nbs_eval computes it.
+nbs::ObservabilitySettings observability_settings(const nbs::LaserStripeProfiler& lsp) {
   nbs::ObservabilitySettings os;
   os.min_range_m = lsp.range.min_m;
   os.max_range_m = lsp.range.max_m;
-  os.incidence_cutoff_rad = p.incidence_cutoff_rad;
+  os.incidence_cutoff_rad = nbs::embree::SimulatedScanner::max_incidence_rad;
   return os;
 }
 
@@ -194,7 +195,7 @@ int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs
                 scan.size(), 100.0 * coverage.completeness().c_a());
   }
   write_ply_points(file(opt, "points.ply"), cloud);
-  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp, params));
+  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp));
   const Completeness c = coverage.completeness();
   std::printf("points  %zu written to %s\nc_a %6.2f %%  c_b %6.2f %%  c_obs %6.2f %%  e_rms %.3f mm  l_s %.3f m  "
               "time %.1f s\n",
@@ -365,7 +366,7 @@ int run(const Options& opt) {
     t_render += seconds_since(t);
   }
   const auto t_obs = std::chrono::steady_clock::now();
-  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp, params));
+  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp));
   const double obs_s = seconds_since(t_obs);
   const Row& fin = rows.back();
   const double runtime = seconds_since(t_start);

@@ -222,6 +222,7 @@ struct Options {
 inline constexpr std::string_view kUsage =
     "usage: nbs_eval --mesh PATH --out DIR [options]\n"
     "       nbs_eval merge --out DIR SHARD_DIR...\n"
+    "       nbs_eval c-obs [--threads N] DIR...\n"
     "Runs the thesis comparison (Sec. 4.7.2, Tab. 4.5) on a mesh: for each method and run r, a simulated\n"
     "autonomous modeling from a seeded initial scan (the same for every method in run r) to n_abort scans.\n"
     "options:\n"
@@ -249,7 +250,8 @@ inline constexpr std::string_view kUsage =
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"
-    "the output of the unsharded run.\n"
+    "the output of the unsharded run. 'c-obs' recomputes the observability ceiling c_obs of finished outputs with\n"
+    "the scanner's rule (any incidence) and rewrites their records and summaries (run from where they were made).\n"
     "method codes: selection R(andom) I(G) Q(uality) C(IG+Quality) x search S(phere) B(oundary Search)\n"
     "  H(BS + Hole Rescan); peer metrics with BS+HR: OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H. Valid codes:\n"
     "  ";

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "eval/ceiling.hpp"
 #include "eval/config.hpp"
 #include "eval/records.hpp"
 #include "nbs/io/load_mesh.hpp"
@@ -178,10 +179,11 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     }
     Json old_cfg = old;
     old_cfg.erase("c_obs");
+    old_cfg.erase(kCObsIncidenceKey);
     if (old_cfg != config)
       throw UsageError("--out '" + o.out + "' holds runs of a different configuration (" + old_cfg.dump() +
                        "); use another --out");
-    if (old.contains("c_obs")) c_obs = old["c_obs"].get<double>();
+    if (c_obs_current(old)) c_obs = old["c_obs"].get<double>();  // else computed again below (an older rule)
   }
   RunMap runs;
   read_runs(dir / "runs.jsonl", runs, log);
@@ -200,25 +202,23 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     }
   if (skipped) log << "nbs_eval: " << skipped << " finished runs found in " << (dir / "runs.jsonl").string() << ", skipped\n";
 
-  if (!todo.empty()) {
+  // c_obs is computed when missing or of an older rule, also when no run is left to do: finished runs are then
+  // restamped with it (their records carry c_obs).
+  if (!todo.empty() || c_obs < 0.0) {
     const embree::SimulatedScanner scanner(mesh);
-    GroundTruth::Setting gts;
-    gts.completeness_radius_m = setup.params.completeness_radius_m;
-    gts.seed = 1;  // the measuring instrument is the same for every --seed
-    const GroundTruth truth(mesh, gts);
+    const GroundTruth truth = eval_ground_truth(mesh, setup.params.completeness_radius_m);
     if (c_obs < 0.0) {
-      const auto t0 = std::chrono::steady_clock::now();
-      ObservabilitySettings os;
-      os.min_range_m = sensor.range.min_m;
-      os.max_range_m = sensor.range.max_m;
-      os.incidence_cutoff_rad = setup.params.incidence_cutoff_rad;
-      os.threads = o.threads;
-      c_obs = truth.observability(scanner.scene(), os).c_obs();
-      log << "nbs_eval: c_obs " << 100.0 * c_obs << " % (" << truth.samples().size() << " samples, "
-          << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s)\n";
+      c_obs = compute_c_obs(scanner, truth, sensor, o.threads, log);
+      if (const std::size_t n = restamp_runs(runs, c_obs))
+        log << "nbs_eval: c_obs of " << n << " finished runs replaced\n";
     }
-    config["c_obs"] = c_obs;
+    stamp_c_obs(config, c_obs);
     write_text(dir / "eval.json", config.dump(2) + "\n");
+    if (todo.empty()) {
+      write_outputs(dir, runs, o.scans);
+      out << "nbs_eval: " << runs.size() << " runs in " << (dir / "runs.jsonl").string() << " (c_obs recomputed)\n";
+      return 0;
+    }
 
     RuntimeModels models = setup.models;
     if (o.pose.registration) models.registration = *o.pose.registration;
@@ -254,8 +254,8 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     for (std::thread& t : pool) t.join();
     lines.close();
     if (failed) throw std::runtime_error(error);
-  } else if (c_obs >= 0.0 || !fs::exists(dir / "eval.json")) {
-    if (c_obs >= 0.0) config["c_obs"] = c_obs;
+  } else {
+    stamp_c_obs(config, c_obs);
     write_text(dir / "eval.json", config.dump(2) + "\n");
   }
   write_outputs(dir, runs, o.scans);
@@ -316,6 +316,55 @@ inline int merge_command(const std::vector<std::string>& args, std::ostream& out
   return 0;
 }
 
+/// `nbs_eval c-obs [--threads N] DIR...`: recomputes c_obs of finished outputs with the current rule (ceiling.hpp)
+/// from what their eval.json names (mesh path relative to the working directory, up, size, sensor, completeness
+/// radius), restamps eval.json and every run record, and rewrites the summaries. No run is repeated.
+inline int c_obs_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& log) {
+  unsigned threads = 0;
+  std::vector<std::string> dirs;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--threads") {
+      if (i + 1 >= args.size()) throw UsageError("c-obs: --threads needs a count");
+      try {
+        threads = static_cast<unsigned>(std::stoul(args[++i]));
+      } catch (const std::exception&) {
+        throw UsageError("c-obs: --threads expects a count, got '" + args[i] + "'");
+      }
+    } else if (args[i] == "--help" || args[i] == "-h") {
+      out << usage();
+      return 0;
+    } else {
+      dirs.push_back(args[i]);
+    }
+  }
+  if (dirs.empty()) throw UsageError("c-obs: give at least one nbs_eval output directory");
+  for (const std::string& d : dirs) {
+    const fs::path dir(d);
+    if (!fs::exists(dir / "eval.json")) throw UsageError("c-obs: '" + d + "' has no eval.json (not an nbs_eval output)");
+    Json config;
+    try {
+      config = Json::parse(read_text(dir / "eval.json"));
+    } catch (const Json::exception& e) {
+      throw UsageError("c-obs: '" + (dir / "eval.json").string() + "' is not valid JSON: " + e.what());
+    }
+    const Json& setup = config.at("setup");
+    const IndexedMesh mesh = eval_mesh(config);
+    const LaserStripeProfiler sensor = sensor_preset(setup.at("sensor").get<std::string>());
+    const embree::SimulatedScanner scanner(mesh);
+    const GroundTruth truth = eval_ground_truth(mesh, setup.at("completeness_radius_m").get<double>());
+    const double before = config.value("c_obs", -1.0);
+    const double c_obs = compute_c_obs(scanner, truth, sensor, threads, log);
+    RunMap runs;
+    read_runs(dir / "runs.jsonl", runs, log);
+    restamp_runs(runs, c_obs);
+    stamp_c_obs(config, c_obs);
+    write_text(dir / "eval.json", config.dump(2) + "\n");
+    write_outputs(dir, runs, config.at("n_abort").get<int>());
+    out << "nbs_eval: " << d << ": c_obs " << before << " -> " << c_obs << " (" << runs.size() << " runs)\n";
+  }
+  return 0;
+}
+
 }  // namespace detail
 
 /// The nbs_eval program. Returns 0 on success, 2 on a usage or input error (printed with the usage on `log`),
@@ -325,6 +374,8 @@ inline int main(int argc, const char* const* argv, std::ostream& out = std::cout
   try {
     if (!args.empty() && args.front() == "merge")
       return detail::merge_command(std::vector<std::string>(args.begin() + 1, args.end()), out, log);
+    if (!args.empty() && args.front() == "c-obs")
+      return detail::c_obs_command(std::vector<std::string>(args.begin() + 1, args.end()), out, log);
     return detail::run_command(args, out, log);
   } catch (const UsageError& e) {
     log << "nbs_eval: error: " << e.what() << "\n" << usage();

@@ -449,6 +449,33 @@ TEST_CASE("CLI: two shards merged equal the unsharded run; a rerun skips finishe
                  "--seed", "7", "--out", full.string()},
                 log) == 2);
   CHECK_THAT(log, nbs_test::Contains("different configuration"));
+
+  // c_obs is stamped with the scanner's incidence limit. An output of an older rule (no stamp, another c_obs) is
+  // recomputed by a rerun and by `c-obs`, and every record is restamped; the runs themselves are not repeated.
+  const Json cfg = Json::parse(read(full / "eval.json"));
+  CHECK(cfg.at("c_obs_incidence_rad").get<double>() == nbs::embree::SimulatedScanner::max_incidence_rad);
+  const auto make_stale = [&] {
+    Json old = cfg;
+    old.erase("c_obs_incidence_rad");
+    old["c_obs"] = 0.5;
+    std::ofstream(full / "eval.json") << old.dump(2);
+    std::ofstream lines(full / "runs.jsonl");
+    for (Json j : a) {
+      j["c_obs"] = 0.5;
+      lines << j.dump() << "\n";
+    }
+  };
+  make_stale();
+  REQUIRE(run_cli(with({"--threads", "2", "--out", full.string()}), log) == 0);
+  CHECK_THAT(log, nbs_test::Contains("c_obs of 2 finished runs replaced"));
+  CHECK(Json::parse(read(full / "eval.json")) == cfg);
+  CHECK(lines_of(full / "runs.jsonl") == a);
+  make_stale();
+  REQUIRE(run_cli({"c-obs", "--threads", "2", full.string()}, log) == 0);
+  CHECK(Json::parse(read(full / "eval.json")) == cfg);
+  CHECK(lines_of(full / "runs.jsonl") == a);
+  CHECK(run_cli({"c-obs", (tmp.path / "nowhere").string()}, log) == 2);
+  CHECK_THAT(log, nbs_test::Contains("has no eval.json"));
 }
 
 TEST_CASE("pose fields: JSON round trip and the run's means", "[eval][pose_error]") {

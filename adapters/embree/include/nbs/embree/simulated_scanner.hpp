@@ -5,6 +5,7 @@
 /// Gaussian noise along each ray (Eq. 4.39 for the thesis sensor).
 
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <utility>
@@ -41,6 +42,11 @@ struct ScannerSettings {
 class SimulatedScanner {
 public:
   using Settings = ScannerSettings;
+
+  /// Largest incidence angle (between a ray and the surface normal, rad) at which a hit is measured: π/2, i.e. every
+  /// hit in the working range is measured, however grazing (Sec. 4.7 names no limit; the planner's 70° of Tab. 4.3
+  /// is its quality rule). Observability ceilings of scans by this scanner use it (nbs_eval's c_obs does).
+  static constexpr double max_incidence_rad = std::numbers::pi / 2.0;
 
   /// Builds the Embree scene of `mesh` (see Scene).
   explicit SimulatedScanner(const IndexedMesh& mesh, Settings settings = {})
