@@ -65,23 +65,24 @@ int main() {
   gts.seed = 1;  // as nbs_eval: the measuring instrument is the same for every run
   const nbs::GroundTruth truth(mesh, gts);
 
-  const auto run = [&](const char* pose_error, nbs::RegistrationMethod reg) {
+  // translation_mm / rotation_deg: the injected error per scan path (nbs_eval --pose-error T_MM,R_DEG).
+  const auto run = [&](double translation_mm, double rotation_deg, nbs::RegistrationMethod reg) {
     nbs::tools::PoseErrorOptions pose;
-    pose.translation_mm = pose_error[0] == '1' ? 1.0 : 0.0;
-    pose.rotation_deg = pose_error[0] == '1' ? 0.1 : 0.0;
+    pose.translation_mm = translation_mm;
+    pose.rotation_deg = rotation_deg;
     pose.registration = reg;
     nbs::RuntimeModels models{};
     models.registration = reg;
     const nbs::eval::RunContext ctx{scanner, truth, params, nbs::presets::dlr_lsp(), nbs::eval::unknown_area_of(mesh, size_m),
                                     scans, 0.0, nbs::PlannerSetting{}, models, pose};
     const Outcome o = measure(ctx, runs);
-    std::printf("%-12s ē %.4f mm (world %.4f)  double surface %.2f %%  residual %.3f mm %.3f deg\n", pose_error,
-                1e3 * o.e_bar_rel_m, 1e3 * o.e_bar_m, 100.0 * o.double_surface, o.pose_t_mm, o.pose_r_deg);
+    std::printf("%g mm, %g deg, %-4s ē %.4f mm (world %.4f)  double surface %.2f %%  residual %.3f mm %.3f deg\n",
+                translation_mm, rotation_deg, nbs::to_string(reg).data(), 1e3 * o.e_bar_rel_m, 1e3 * o.e_bar_m, 100.0 * o.double_surface, o.pose_t_mm, o.pose_r_deg);
     return o;
   };
-  const Outcome exact = run("0,0 none", nbs::RegistrationMethod::none);
-  const Outcome none = run("1,0.1 none", nbs::RegistrationMethod::none);
-  const Outcome icp = run("1,0.1 icp", nbs::RegistrationMethod::icp);
+  const Outcome exact = run(0.0, 0.0, nbs::RegistrationMethod::none);
+  const Outcome none = run(1.0, 0.1, nbs::RegistrationMethod::none);
+  const Outcome icp = run(1.0, 0.1, nbs::RegistrationMethod::icp);
 
   char note[200];
   std::snprintf(note, sizeof note, "bunny, C_H, %d runs x %d scans, 1 mm / 0.1 deg, model frame; e_bar %.4f vs %.4f mm; goal <= 1.2",
