@@ -6,8 +6,8 @@
 /// smoothed). `plan_joint_transfer(robot, validity, q_start, q_goal, setting)`: an OMPL RealVectorStateSpace over
 /// the robot's joints bounded by its limits, RRT-Connect, then OMPL's `PathSimplifier` (vertex reduction and
 /// shortcutting by default, `JointSimplify::full` adds B-spline smoothing); every straight joint motion is checked at
-/// configurations at most `check_resolution` apart. The scan paths themselves are checked by `RobotPathChecker` (robot/link_collision.hpp),
-/// not here.
+/// configurations at most `check_resolution` apart. The scan paths themselves (a joint trajectory every ≤ 10 mm of
+/// the sensor) are checked by `RobotPathChecker` (robot/link_collision.hpp), not here.
 ///
 /// Validity: any `JointValidity` (`first_contact(q) -> std::optional<LinkContact>`). The default is
 /// `nbs::LinkCollisionChecker(robot, space, setting)`: the link shapes against the space's voxels with p > 0.05
