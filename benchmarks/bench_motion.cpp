@@ -2,8 +2,8 @@
 // bench_motion: joint-space transfer motions of the shipped arm (issue 19, item 3). data/robots/lwr4.urdf beside a
 // bunny-sized object: a 0.16 m box of unknown voxels (5 mm, every voxel an obstacle, as before the first scan) on
 // the pedestal at the origin. Scan start poses look at the box centre from 0.3 m at elevations 0°, 20°, 50° and the
-// azimuths 90°…270° (the base's side, step 45°; the far side is out of reach); each is solved by IK seeded with the
-// previous pose's solution (the first from a fixed home configuration) and kept if its links are free
+// azimuths 90°…270° (the base's side, step 45°; the far side is out of reach); each is solved by IK seeded with
+// the previous pose's solution (the first from a fixed home configuration) and kept if its links are free
 // (LinkCollisionChecker, base exempt from the table). Transfers go between every pair of kept poses (i < j), seed =
 // pair number, JointTransferSetting's defaults.
 // Headlines: motion.transfer_ms — the median over the pairs of one plan_joint_transfer (a free straight motion, or
