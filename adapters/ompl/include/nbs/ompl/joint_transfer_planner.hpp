@@ -14,7 +14,12 @@
 /// (unknown included) and the table. It reads the space on every check, so it is always current after a scan and
 /// costs nothing to keep up to date; an FCL obstacle model (nbs::fcl) would have to be rebuilt from the space after
 /// every integration (an OctoMap export of every voxel of the unknown area), and its advantage — mesh link shapes —
-/// is unused while `Robot::collision_shapes` keeps meshes as unloaded paths. So no FCL here.
+/// is unused while `Robot::collision_shapes` keeps meshes as unloaded paths. So no FCL here. Cost: one
+/// LinkCollisionChecker query per checked configuration (LWR: about 2 µs with no link near the voxels, up to about
+/// 1 ms with links inside a box of 5 mm voxels; docs/robot.md).
+///
+/// Linking with nbs::kdl (Debian's OMPL 1.5.2 and KDL 1.5.1): link nbs::kdl before nbs::ompl, else KDL's IK runs
+/// OMPL's exported copy of Eigen's JacobiSVD and aborts (docs/robot.md, "Transfer motions in joint space").
 ///
 /// Reproducible: single-threaded; the state sampler, RRT-Connect's and the simplifier's generators are seeded from
 /// `JointTransferSetting::seed`; RRT-Connect stops after `max_iterations` (never on time), so the same inputs give
