@@ -334,7 +334,9 @@ private:
         mesh_(make_mesh(params_, box_)),
         termination(detail::make_termination<Termination>(params_)),
         collision(detail::make_collision<Collision>(*space_)),
-        control_(params_.mode_switch_gain) {}
+        control_(params_.mode_switch_gain) {
+    detail::apply_flush_setting(*space_, setting_.flush);
+  }
 
   /// Runs Alg. 3 on `fresh` (if enabled), counts, and appends the accepted candidates to S.
   void admit(std::vector<ScanCandidate> fresh, IterationStats& st) {

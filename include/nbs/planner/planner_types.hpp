@@ -10,6 +10,7 @@
 
 #include "nbs/planner/detail/components.hpp"
 #include "nbs/registration/registration.hpp"
+#include "nbs/space/block_flush.hpp"
 
 namespace nbs {
 
@@ -132,6 +133,10 @@ struct PlannerSetting {
   /// NBS_BENCH_REFINE_STUDY (seed 1, 13 steps, |S| up to 419): {4, 32} picked the single-pass candidate in 13 of 13
   /// steps; {4, 16} in 9 of 13, its worst pick within 1.6 % of the best single-pass value. {1, k} turns it off.
   CoarseToFine refine{4, 32};
+  /// Flushing of cold voxel blocks to disk for spaces larger than memory (Sec. 5.5 workspace runs): off by default;
+  /// applied to the space's backend when the planner is built. Plans are identical with and without it (tested);
+  /// a backend that cannot flush (not FlushableBackend) refuses an enabled setting.
+  BlockFlushSetting flush{};
 
   /// Throws InvalidArgument naming the bad field.
   void validate() const {
@@ -140,6 +145,9 @@ struct PlannerSetting {
     refine.validate();
     replan.validate();
     detail::require_non_negative("PlannerSetting.standoff_m", standoff_m);
+    detail::require(!flush.directory.empty() || (flush.idle_scans == 0 && flush.memory_budget_bytes == 0),
+                    "PlannerSetting.flush: idle_scans = ", flush.idle_scans, " and memory_budget_bytes = ",
+                    flush.memory_budget_bytes, " need a directory");
   }
 };
 

@@ -4,6 +4,7 @@
 /// The flush policy and flush counters of HashedBlockBackend (hashed_block_backend.hpp), which writes cold blocks to
 /// disk and reloads them transparently; see that file for when blocks are flushed and what a failure does.
 
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -20,6 +21,9 @@ struct BlockFlushSetting {
   std::filesystem::path directory;
   std::uint32_t idle_scans = 0;           ///< flush blocks not written during the last idle_scans scans (0 = off)
   std::size_t memory_budget_bytes = 0;    ///< then flush LRU blocks until memory_bytes() ≤ this (0 = off)
+
+  /// True if this setting flushes anything (a directory and a rule).
+  [[nodiscard]] bool enabled() const { return !directory.empty() && (idle_scans > 0 || memory_budget_bytes > 0); }
 };
 
 /// What flushing has done so far.
@@ -31,6 +35,15 @@ struct BlockFlushStats {
   /// first flush (detail/block_folder_lock.hpp).
   std::uint64_t stale_folders_removed = 0;
   std::string last_error;             ///< message of the last failed flush ("" if none)
+};
+
+/// A voxel backend that can flush cold blocks to disk (the capability NbsPlanner needs for PlannerSetting::flush):
+/// `set_flush_policy(BlockFlushSetting)` (throws InvalidArgument for a rule without a directory) and
+/// `flush_stats()`. HashedBlockBackend models it.
+template <class B>
+concept FlushableBackend = requires(B& b, const B& cb, BlockFlushSetting s) {
+  b.set_flush_policy(s);
+  { cb.flush_stats() } -> std::convertible_to<const BlockFlushStats&>;
 };
 
 }  // namespace nbs

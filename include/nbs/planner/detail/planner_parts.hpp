@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "nbs/planner/detail/components.hpp"
+#include "nbs/space/block_flush.hpp"
 
 namespace nbs::detail {
 
@@ -29,6 +30,21 @@ template <VoxelSpace Space, class Sensor>
     return std::make_unique<Space>(params.voxel_size_m, box, typename Space::ModelType(st));
   } else {
     return std::make_unique<Space>(params.voxel_size_m, box);
+  }
+}
+
+/// Applies PlannerSetting::flush to the space's backend (nothing when it is off). Throws InvalidArgument if it is on
+/// and the backend is not a FlushableBackend reachable through `space.mutable_backend()`.
+template <class Space>
+void apply_flush_setting(Space& space, const BlockFlushSetting& flush) {
+  if (!flush.enabled()) return;
+  if constexpr (requires { space.mutable_backend(); } &&
+                FlushableBackend<std::remove_cvref_t<decltype(space.mutable_backend())>>) {
+    space.mutable_backend().set_flush_policy(flush);
+  } else {
+    throw InvalidArgument(
+        "PlannerSetting.flush: the planner's voxel space cannot flush blocks to disk (its backend is not a "
+        "FlushableBackend, e.g. HashedBlockBackend)");
   }
 }
 
