@@ -275,7 +275,8 @@ int run(const Options& opt) {
                 opt.robot.urdf.c_str(), robot->robot.joint_count(), opt.robot.base_link.c_str(),
                 opt.robot.flange_link.c_str(), opt.robot.sensor_link.c_str());
   std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m%s%s\n",
-              robot ? "  unreach  t_reach s" : "", opt.pose.active() ? "  registration             pose mm  pose deg" : "");
+              robot ? "  unreach  t_reach s" : "",
+              opt.pose.active() ? "  registration             pose mm  pose deg" : "");
   // Scan i uses the noise seed splitmix64(seed ^ (0x5CA9 + i)) (SimulatedDriver); the pose error (none without
   // --pose-error: the scans are then bit-identical) is applied to the reported scan.
   PoseErrorDriver driver(SimulatedDriver(scanner, planner.sensor(), opt.seed), opt.pose.setting(opt.seed));

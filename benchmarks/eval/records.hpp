@@ -137,8 +137,10 @@ struct RunRecord {
   }
   r.robot = s.contains("unreachable_candidates");
   if (r.robot) {
-    if (s.at("unreachable_candidates").size() != n) throw std::runtime_error("scan series 'unreachable_candidates' has a wrong length");
-    for (std::size_t i = 0; i < n; ++i) r.scans[i].unreachable_candidates = s["unreachable_candidates"][i].get<std::size_t>();
+    if (s.at("unreachable_candidates").size() != n)
+      throw std::runtime_error("scan series 'unreachable_candidates' has a wrong length");
+    for (std::size_t i = 0; i < n; ++i)
+      r.scans[i].unreachable_candidates = s["unreachable_candidates"][i].get<std::size_t>();
   }
   r.pose = j.contains("double_surface_share");
   if (r.pose) {

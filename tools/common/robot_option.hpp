@@ -41,7 +41,8 @@ inline void add_robot_options(CLI::App& app, RobotOptions& o) {
            const std::size_t a = v.find(','), b = a == std::string::npos ? a : v.find(',', a + 1);
            if (b == std::string::npos || v.find(',', b + 1) != std::string::npos || a == 0 || b == a + 1 ||
                b + 1 == v.size())
-             throw CLI::ValidationError("--robot-links", "expects BASE,FLANGE,SENSOR (three link names), got '" + v + "'");
+             throw CLI::ValidationError("--robot-links",
+                                        "expects BASE,FLANGE,SENSOR (three link names), got '" + v + "'");
            o.base_link = v.substr(0, a);
            o.flange_link = v.substr(a + 1, b - a - 1);
            o.sensor_link = v.substr(b + 1);

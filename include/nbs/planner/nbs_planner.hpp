@@ -264,7 +264,8 @@ public:
         control_.mark_holes_detected();
       }
     }
-    if (pool_.empty()) return finish(st.unreachable > 0 ? PlanStatus::no_reachable_candidate : PlanStatus::no_candidates);
+    if (pool_.empty())
+      return finish(st.unreachable > 0 ? PlanStatus::no_reachable_candidate : PlanStatus::no_candidates);
 
     const auto te = std::chrono::steady_clock::now();
     std::vector<LinearScanPath> paths;
@@ -276,16 +277,21 @@ public:
     st.evaluated = pool_.size();
     if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
     std::size_t chosen = res.best;
+    std::vector<std::size_t> leaving;  // indices into S (and res.values) that leave S
     if constexpr (kHasRobot) {
       if (robot.active()) {
-        const std::optional<std::size_t> c = choose_reachable(res, out, st);
-        if (!c) return finish(PlanStatus::no_reachable_candidate);
+        const std::optional<std::size_t> c = choose_reachable(res, out, st, leaving);
+        if (!c) {
+          erase_from_pool(std::move(leaving));
+          return finish(PlanStatus::no_reachable_candidate);
+        }
         chosen = *c;
       }
     }
     st.best_utility = res.values[chosen];
     out.candidate = std::move(pool_[chosen]);
-    pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(chosen));
+    leaving.push_back(chosen);
+    erase_from_pool(std::move(leaving));
     return finish(PlanStatus::ok);
   }
 
@@ -443,13 +449,13 @@ private:
   }
 
   /// The index in S of the best candidate the robot can fly now (res's best first, then by value; ties to the lower
-  /// index); the refused ones leave S (indices above the chosen one shift, so the chosen index is adjusted).
-  std::optional<std::size_t> choose_reachable(const EvaluationResult& res, PlanResult& out, IterationStats& st) {
+  /// index), its trajectory in out.joints; the refused ones are appended to `refused` (they leave S).
+  std::optional<std::size_t> choose_reachable(const EvaluationResult& res, PlanResult& out, IterationStats& st,
+                                              std::vector<std::size_t>& refused) {
     const auto checker = robot.checker(*space_);
     std::vector<std::size_t> order{res.best};
     for (const std::size_t i : top_indices(std::span<const double>(res.values), res.values.size()))
       if (i != res.best) order.push_back(i);
-    std::vector<std::size_t> refused;
     std::optional<std::size_t> chosen;
     for (const std::size_t i : order) {
       if (!count_unreachable(reach_failure(checker, pool_[i].path, st, &out.joints), st)) {
@@ -458,12 +464,13 @@ private:
       }
       refused.push_back(i);
     }
-    std::ranges::sort(refused, std::greater<>{});
-    for (const std::size_t i : refused) pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(i));
-    if (!chosen) return std::nullopt;
-    const std::size_t shift = static_cast<std::size_t>(std::ranges::count_if(refused, [&](std::size_t i) { return i < *chosen; }));
-    if (!out.joints.empty()) robot.planned(out.joints.back());
-    return *chosen - shift;
+    if (chosen && !out.joints.empty()) robot.planned(out.joints.back());
+    return chosen;
+  }
+  /// Erases the candidates at `indices` (distinct) from S, keeping the order of the rest.
+  void erase_from_pool(std::vector<std::size_t> indices) {
+    std::ranges::sort(indices, std::greater<>{});
+    for (const std::size_t i : indices) pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(i));
   }
 
   template <class Generator>
