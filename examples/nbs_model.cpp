@@ -220,6 +220,13 @@ std::string_view stop_name(nbs::LoopStop s) {
 int run(const Options& opt) {
   using namespace nbs;
   const auto t_start = std::chrono::steady_clock::now();
+  std::optional<tools::LoadedRobot> robot;  // --robot: loaded first, so that a bad file fails before any work
+  try {
+    if (opt.robot.active()) robot = tools::load_robot(opt.robot);
+  } catch (const Error& e) {
+    std::cerr << "nbs_model: --robot: " << e.what() << "\n";
+    return tools::kUsageExit;
+  }
   IndexedMesh mesh;
   try {
     mesh = load_mesh(opt.mesh);
@@ -252,14 +259,11 @@ int run(const Options& opt) {
   if (opt.pose.registration) models.registration = *opt.pose.registration;
   ps.threads = opt.threads;
   ps.seed = opt.seed;
-  std::optional<tools::LoadedRobot> robot;
   try {
-    if (opt.robot.active()) {
-      robot = tools::load_robot(opt.robot);
-      // The object must be in the arm's reach before any work (issue 19): 25 % of the view hemisphere at d_s.
+    // The object must be in the arm's reach before any work (issue 19): 25 % of the view hemisphere at d_s.
+    if (robot)
       require_object_in_reach(robot->robot, unknown.center(), 0.5 * (lsp.range.min_m + lsp.range.max_m),
                               robot->start);
-    }
   } catch (const Error& e) {
     std::cerr << "nbs_model: --robot: " << e.what() << "\n";
     return tools::kUsageExit;
