@@ -83,7 +83,7 @@ concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSea
 /// - `Registration`: the registration step before each scan is integrated (RegistrationPolicy, public member
 ///   `registration`; NoRegistration for exact poses, Icp for a robot's pose error, Sec. 3.2.3);
 /// - `Reach`: who carries the sensor (robot_policy.hpp, public member `robot`): FreeFlying (nothing checked) or
-///   RobotReach<R> (Alg. 3 keeps only candidates R can fly; the chosen one is re-checked; see next_best_scan).
+///   `RobotReach<R>` (Alg. 3 keeps only candidates R can fly; the chosen one is re-checked; see next_best_scan).
 template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler,
           class Collision = NoCollisions, class Termination = DefaultTermination,
           class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh,
@@ -496,7 +496,8 @@ private:
   IterationStats last_stats_{};
 };
 
-/// NbsPlanner<> (C_H, its default models) planning for the Robot R: set `planner.robot = RobotReach<R>(r, q_start)`.
+/// `NbsPlanner<>` (C_H, its default models) planning for the Robot R: set
+/// `planner.robot = RobotReach<R>(r, q_start)`.
 template <Robot R>
 using RobotPlanner = NbsPlanner<IgQualityUtility, BoundaryHoleSpace, LaserStripeProfiler, NoCollisions,
                                 DefaultTermination, ProbabilisticVoxelSpace<>, NoiseRobustStreamingMesh,
