@@ -49,6 +49,7 @@
 
 #include "common/data_dir.hpp"
 #include "common/options.hpp"
+#include "common/robot_option.hpp"
 #include "viewer/write_viewer.hpp"
 
 namespace {
@@ -68,6 +69,7 @@ struct Options {
   bool thesis_mesh = false;
   bool viewer = false;
   nbs::tools::PoseErrorOptions pose;  ///< --pose-error, --registration
+  nbs::tools::RobotOptions robot;     ///< --robot, --robot-links
 };
 
 /// The command line (tools/common/options.hpp: the shared options, --help, exit 2 on a bad value).
@@ -77,6 +79,7 @@ void add_options(CLI::App& app, Options& o) {
   tools::add_object_options(app, o);
   tools::add_run_options(app, o);
   tools::add_pose_error_options(app, o.pose);
+  tools::add_robot_options(app, o.robot);
   tools::add_out(app, o.out);
   app.add_flag_callback("--no-images", [&o] { o.images = false; }, "do not write the PNG pictures");
   app.add_flag("--initial-only", o.initial_only,
@@ -165,6 +168,8 @@ struct Row {
   double c_m = 0, d_m = 0, c_a = 0, c_b = 0, e_m = 0, l_s = 0, t_nbs = 0;
   std::size_t candidates = 0, points = 0, vertices = 0;
   double utility = 0.0;
+  std::size_t unreachable = 0;  ///< candidates of the planning step the robot could not fly (--robot)
+  double t_reach = 0.0;         ///< of t_nbs: the reach checks, seconds (--robot)
 };
 
 /// c_obs with the simulated scanner's own rule (its working range, any incidence), as nbs_eval computes it.
@@ -216,6 +221,13 @@ std::string_view stop_name(nbs::LoopStop s) {
 int run(const Options& opt) {
   using namespace nbs;
   const auto t_start = std::chrono::steady_clock::now();
+  std::optional<tools::LoadedRobot> robot;  // --robot: loaded first, so that a bad file fails before any work
+  try {
+    if (opt.robot.active()) robot = tools::load_robot(opt.robot);
+  } catch (const Error& e) {
+    std::cerr << "nbs_model: --robot: " << e.what() << "\n";
+    return tools::kUsageExit;
+  }
   IndexedMesh mesh;
   try {
     mesh = load_mesh(opt.mesh);
@@ -248,12 +260,27 @@ int run(const Options& opt) {
   if (opt.pose.registration) models.registration = *opt.pose.registration;
   ps.threads = opt.threads;
   ps.seed = opt.seed;
+  try {
+    // The object must be in the arm's reach before any work (issue 19): 25 % of the view hemisphere at d_s.
+    if (robot)
+      require_object_in_reach(robot->robot, unknown.center(), 0.5 * (lsp.range.min_m + lsp.range.max_m),
+                              robot->start);
+  } catch (const Error& e) {
+    std::cerr << "nbs_model: --robot: " << e.what() << "\n";
+    return tools::kUsageExit;
+  }
   RuntimePlanner planner(opt.method, params, lsp, unknown, ps, models);
+  if (robot) planner.set_robot(robot->robot, robot->start, robot->setting);
   const std::string code = planner.code();
   std::printf("planner %s, n_abort %d, unknown area %.3f x %.3f x %.3f m, voxel %.1f mm, seed %llu, %u threads\n",
               code.c_str(), params.max_scans, unknown.extent().x(), unknown.extent().y(), unknown.extent().z(),
               1e3 * planner.space().resolution_m(), static_cast<unsigned long long>(opt.seed), opt.threads);
-  std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m%s\n",
+  if (robot)
+    std::printf("robot   %s (%zu joints, base %s, flange %s, sensor %s): candidates kept only if it can fly them\n",
+                opt.robot.urdf.c_str(), robot->robot.joint_count(), opt.robot.base_link.c_str(),
+                opt.robot.flange_link.c_str(), opt.robot.sensor_link.c_str());
+  std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m%s%s\n",
+              robot ? "  unreach  t_reach s" : "",
               opt.pose.active() ? "  registration             pose mm  pose deg" : "");
   // Scan i uses the noise seed splitmix64(seed ^ (0x5CA9 + i)) (SimulatedDriver); the pose error (none without
   // --pose-error: the scans are then bit-identical) is applied to the reported scan.
@@ -288,11 +315,13 @@ int run(const Options& opt) {
     if (viewer) viewer->add_scan(planner.mesh(), path);
     const Completeness c = gt.coverage.completeness();
     Row r{static_cast<int>(i) + 1, std::string(to_string(plan.mode)), rep.estimated_coverage, rep.mean_density,
-          c.c_a(), c.c_b(), gt.rms_m(), l_s, plan.t_nbs_s, candidates, scan.size(), gt.vertices, utility};
+          c.c_a(), c.c_b(), gt.rms_m(), l_s, plan.t_nbs_s, candidates, scan.size(), gt.vertices, utility,
+          plan.unreachable, plan.t_reach_s};
     if (i == 0) r.mode = "init";
     rows.push_back(r);
     std::printf("%4d %-4s %6.3f  %6.3f  %6zu  %6.3f  %7zu  %6.2f  %6.2f  %5.3f  %6.3f", r.scan, r.mode.c_str(), r.c_m,
                 r.d_m, r.candidates, r.t_nbs, r.points, 100.0 * r.c_a, 100.0 * r.c_b, 1e3 * r.e_m, r.l_s);
+    if (robot) std::printf("  %7zu  %9.3f", r.unreachable, r.t_reach);
     if (opt.pose.active()) {
       const PoseErrorRecord& e = driver.last_error();
       const PoseResidual res = residual_pose_error(e.true_to_reported, rep.registration.correction, e.true_centroid);
@@ -413,6 +442,11 @@ int run(const Options& opt) {
   se["utility"] = series([](const Row& r) { return r.utility; });
   se["points"] = series([](const Row& r) { return r.points; });
   se["mode"] = series([](const Row& r) { return r.mode; });
+  if (robot) {
+    js["robot"] = opt.robot.urdf;
+    se["unreachable_candidates"] = series([](const Row& r) { return r.unreachable; });
+    se["t_reach_s"] = series([](const Row& r) { return r.t_reach; });
+  }
   auto& fi = js["final"];
   fi["c_a"] = fin.c_a;
   fi["c_b"] = fin.c_b;

@@ -30,6 +30,7 @@
 #include "nbs/sensor/presets.hpp"
 
 #include "common/options.hpp"
+#include "common/robot_option.hpp"
 
 namespace nbs::eval {
 
@@ -217,6 +218,7 @@ struct Options {
   std::string sensor;  ///< `--sensor NAME`, empty: the set-up's
   int shard_k = 1, shard_n = 1;  ///< this process runs the (method, run) pairs with index % n == k − 1
   tools::PoseErrorOptions pose;  ///< `--pose-error T_MM,R_DEG`, `--registration none|icp`
+  tools::RobotOptions robot;     ///< `--robot PATH`, `--robot-links BASE,FLANGE,SENSOR`
 };
 
 inline constexpr std::string_view kUsage =
@@ -247,6 +249,9 @@ inline constexpr std::string_view kUsage =
     "  --pose-error T_MM,R_DEG  simulated robot pose error per scan path: exactly T_MM mm in a random direction\n"
     "                    and R_DEG degrees about a random axis through the sensor (default: none; docs/evaluation.md)\n"
     "  --registration none|icp  registration of each scan before it is integrated (default none)\n"
+    "  --robot PATH      plan for the URDF arm in PATH (needs nbs::kdl): only scan paths it can fly are kept;\n"
+    "                    runs.jsonl gains unreachable_candidates per scan (default: a free-flying sensor)\n"
+    "  --robot-links BASE,FLANGE,SENSOR  the URDF's links (default world,lwr_flange,sensor: data/robots/lwr4.urdf)\n"
     "  --shard K/N       run only the K-th of N interleaved shares of the (method, run) pairs (1 <= K <= N)\n"
     "  --help            this text\n"
     "A rerun with the same --out skips finished (method, run) pairs. 'merge' combines shard directories into\n"
@@ -345,6 +350,7 @@ namespace detail {
   app.add_option("--threads", o.threads)->check(tools::integer_in(1, 1024));
   tools::add_out(app, o.out)->required();
   tools::add_pose_error_options(app, o.pose);
+  tools::add_robot_options(app, o.robot);
   app.add_option_function<std::string>("--shard", [&o](const std::string& v) {
     const std::size_t slash = v.find('/');
     if (slash == std::string::npos) throw UsageError("--shard must be K/N, got '" + v + "'");

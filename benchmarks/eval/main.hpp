@@ -19,6 +19,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -134,6 +135,9 @@ private:
   if (o.pose.translation_mm)
     j["pose_error"] = Json{{"translation_mm", *o.pose.translation_mm}, {"rotation_deg", *o.pose.rotation_deg}};
   if (o.pose.registration) j["registration"] = std::string(to_string(*o.pose.registration));
+  if (o.robot.active())
+    j["robot"] = Json{{"urdf", o.robot.urdf},
+                      {"links", {o.robot.base_link, o.robot.flange_link, o.robot.sensor_link}}};
   return j;
 }
 
@@ -162,6 +166,18 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     normalize_on_pedestal(mesh, o.size_m, o.up);
   } catch (const Error& e) {
     throw UsageError("mesh '" + o.mesh + "': " + e.what());
+  }
+
+  // --robot: loaded and the object checked to be in its reach before any work (a bad file names its path).
+  std::optional<tools::LoadedRobot> robot;
+  try {
+    if (o.robot.active()) {
+      robot = tools::load_robot(o.robot);
+      require_object_in_reach(robot->robot, unknown_area_of(mesh, o.size_m).center(),
+                              0.5 * (sensor.range.min_m + sensor.range.max_m), robot->start);
+    }
+  } catch (const Error& e) {
+    throw UsageError(std::string("--robot: ") + e.what());
   }
 
   const fs::path dir(o.out);
@@ -223,7 +239,7 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     RuntimeModels models = setup.models;
     if (o.pose.registration) models.registration = *o.pose.registration;
     const RunContext ctx{scanner, truth, setup.params, sensor, unknown_area_of(mesh, o.size_m), o.scans, c_obs,
-                         setup.planner, models, o.pose};
+                         setup.planner, models, o.pose, robot};
     std::ofstream lines(dir / "runs.jsonl", std::ios::app);
     if (!lines) throw std::runtime_error("cannot append to '" + (dir / "runs.jsonl").string() + "'");
     Progress progress(todo.size(), log);

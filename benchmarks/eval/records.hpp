@@ -45,6 +45,9 @@ struct ScanRow {
   double e_bar_rel_m = 0;  ///< ē with the vertices mapped by E₁⁻¹ into the true frame (= e_bar_m without error)
   std::string registration;  ///< the registration status (to_string(RegistrationStatus))
   double icp_s = 0;        ///< time of the registration step (RegistrationResult::t_s), seconds
+  /// With --robot only (RunRecord::robot): candidates of the planning step that the arm could not fly
+  /// (IterationStats::unreachable; 0 for the first scan).
+  std::size_t unreachable_candidates = 0;
 };
 
 /// One (method, run) of the experiment.
@@ -55,7 +58,7 @@ struct RunRecord {
   int initial_index = 0;   ///< which of the 13 initial scan paths (Sec. 4.7.2)
   int n_abort = 30;     ///< scan limit
   int n_s = 30;         ///< first scan after which ĉ_m and d̄_m reached their targets, else n_abort
-  std::string stop;     ///< "max_scans", "no_candidates" (loop ended early) or "done"
+  std::string stop;     ///< "max_scans", "no_candidates", "no_reachable_candidate" (loop ended early) or "done"
   double c_obs = 0;     ///< observability ceiling of the mesh
   /// --pose-error / --registration given: the scans carry the pose fields, the run double_surface_share.
   bool pose = false;
@@ -63,6 +66,7 @@ struct RunRecord {
   /// true surface.
   double double_surface_share = 0;
   double double_surface_share_rel = 0;  ///< the same with the vertices mapped by E₁⁻¹ (see ScanRow::pose_rel_t_mm)
+  bool robot = false;   ///< --robot given: the scans carry unreachable_candidates
   std::vector<ScanRow> scans;
 };
 
@@ -91,6 +95,7 @@ struct RunRecord {
     col("registration", [](const ScanRow& x) { return x.registration; });
     col("icp_s", [](const ScanRow& x) { return x.icp_s; });
   }
+  if (r.robot) col("unreachable_candidates", [](const ScanRow& x) { return x.unreachable_candidates; });
   Json j{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
          {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
          {"scans", std::move(s)}};
@@ -129,6 +134,13 @@ struct RunRecord {
     x.t_nbs_s = s["t_nbs_s"][i].get<double>();
     x.candidates = s["candidates"][i].get<std::size_t>();
     x.mode = s["mode"][i].get<std::string>();
+  }
+  r.robot = s.contains("unreachable_candidates");
+  if (r.robot) {
+    if (s.at("unreachable_candidates").size() != n)
+      throw std::runtime_error("scan series 'unreachable_candidates' has a wrong length");
+    for (std::size_t i = 0; i < n; ++i)
+      r.scans[i].unreachable_candidates = s["unreachable_candidates"][i].get<std::size_t>();
   }
   r.pose = j.contains("double_surface_share");
   if (r.pose) {

@@ -12,11 +12,13 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "common/options.hpp"
+#include "common/robot_option.hpp"
 #include "eval/records.hpp"
 #include "nbs/driver/pose_error_driver.hpp"
 #include "nbs/sim/pose_error.hpp"
@@ -55,6 +57,8 @@ struct RunContext {
   /// --pose-error / --registration: the error of each run (seed derived from the run's) and whether the records
   /// carry the pose fields.
   tools::PoseErrorOptions pose{};
+  /// --robot: the arm every run plans for (RuntimePlanner::set_robot); the records then carry the robot fields.
+  std::optional<tools::LoadedRobot> robot{};
 };
 
 /// The double-surface threshold: 2σ of the sensor's range noise (Eq. 4.39 for the DLR LSP) at the planner's
@@ -73,6 +77,7 @@ struct RunContext {
   Parameters params = ctx.params;
   params.max_scans = ctx.n_abort;
   RuntimePlanner planner(m, params, ctx.sensor, ctx.unknown_area, setting, ctx.models);
+  if (ctx.robot) planner.set_robot(ctx.robot->robot, ctx.robot->start, ctx.robot->setting);
   // Keep planning after the quality criterion holds (Sec. 4.7.2: "we do not abort the algorithm after n_s"):
   // the planner's own coverage criterion is made unreachable; n_s is judged below with the real targets.
   std::visit(
@@ -92,6 +97,7 @@ struct RunContext {
   rec.n_abort = ctx.n_abort;
   rec.n_s = ctx.n_abort;
   rec.c_obs = ctx.c_obs;
+  rec.robot = ctx.robot.has_value();
   CoverageTracker tracker = ctx.truth.tracker();
   std::size_t seen_vertices = 0;
   double sum_sq = 0.0, sum_sq_rel = 0.0;
@@ -134,6 +140,7 @@ struct RunContext {
     row.t_nbs_s = r.planning.t_nbs_s;
     row.candidates = r.planning.evaluated;
     row.mode = r.scan == 1 ? "init" : std::string(to_string(r.planning.mode));
+    row.unreachable_candidates = r.planning.unreachable;
     if (ctx.pose.active()) {
       const RegistrationResult& reg = r.integration.registration;
       const PoseErrorRecord& e = driver.last_error();
@@ -174,6 +181,7 @@ struct RunContext {
     rec.double_surface_share_rel = far_share(model_to_true);
   }
   if (static_cast<int>(res.records.size()) >= ctx.n_abort) rec.stop = "max_scans";
+  else if (res.last_plan == PlanStatus::no_reachable_candidate) rec.stop = "no_reachable_candidate";
   else rec.stop = res.stop == LoopStop::no_candidates ? "no_candidates" : "done";
   return rec;
 }

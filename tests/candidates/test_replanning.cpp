@@ -349,6 +349,32 @@ TEST_CASE("Alg. 3 keeps a free candidate and drops enclosed ones", "[replanning]
   }
 }
 
+TEST_CASE("Alg. 3 with a PathAcceptor (a robot): a refused rotation is skipped, all refused is dropped_unreachable",
+          "[replanning]") {
+  WallScene sc;
+  sc.space = space_with(sc.l, sc.bounds, {}, Vec3(0.5, 0, 0.05));  // nothing in the way: (0, 0) passes Alg. 3
+  const Pose original = sc.path.start().pose();
+  SECTION("the unrotated path refused: the next rotation in Alg. 3's order (0, +step) is taken") {
+    const auto not_original = [&](const nbs::LinearScanPath& p) { return !p.start().pose().isApprox(original, 1e-12); };
+    nbs::LinearScanPath path = sc.path;
+    const auto r = nbs::replan(path, sc.aim, sc.targets, sc.space, nbs::NoCollisions{}, sc.sensor, {}, not_original);
+    CHECK(r.outcome == nbs::ReplanOutcome::rotated);
+    CHECK(r.beta_x_rad == 0.0);
+    CHECK(r.beta_y_rad == nbs::ReplanSetting{}.angle_step_rad);
+    CHECK(r.acceptor_checks == 2);
+    CHECK(r.acceptor_refusals == 1);
+  }
+  SECTION("every path refused: dropped_unreachable, the path unchanged") {
+    const auto none = [](const nbs::LinearScanPath&) { return false; };
+    nbs::LinearScanPath path = sc.path;
+    const auto r = nbs::replan(path, sc.aim, sc.targets, sc.space, nbs::NoCollisions{}, sc.sensor, {}, none);
+    CHECK(r.outcome == nbs::ReplanOutcome::dropped_unreachable);
+    CHECK(r.acceptor_checks == r.acceptor_refusals);
+    CHECK(r.acceptor_checks == r.collision_checks);
+    CHECK(path.start().pose().isApprox(original, 0.0));
+  }
+}
+
 TEST_CASE("replan_candidates drops the enclosed candidate and keeps the order of the others", "[replanning]") {
   const WallScene sc;
   auto make = [&](const Vec3& shift, std::size_t index) {

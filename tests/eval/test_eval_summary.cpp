@@ -592,3 +592,20 @@ TEST_CASE("CLI: --pose-error runs: new fields consistent, zero error identical t
   CHECK_THAT(log, nbs_test::Contains("different configuration"));
   CHECK(run_cli(with({"--pose-error", "1,0.1"}, tmp.path / "err"), log) == 2);
 }
+
+TEST_CASE("runs.jsonl with --robot: unreachable_candidates round-trips; a bad --robot exits 2 naming the path",
+          "[eval][robot]") {
+  nbs::eval::RunRecord r = hand_record();
+  r.robot = true;
+  for (std::size_t i = 0; i < r.scans.size(); ++i) r.scans[i].unreachable_candidates = 3 * i;
+  const Json j = nbs::eval::to_json(r);
+  CHECK(j.at("scans").at("unreachable_candidates").size() == r.scans.size());
+  const nbs::eval::RunRecord back = nbs::eval::record_from_json(Json::parse(j.dump()));
+  CHECK(back.robot);
+  CHECK(nbs::eval::to_json(back) == j);
+  CHECK_FALSE(nbs::eval::to_json(hand_record()).at("scans").contains("unreachable_candidates"));
+  const TempDir tmp("robot_bad");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  const std::string out = (tmp.path / "out").string();
+  expect_rejected({"--mesh", bunny, "--out", out, "--robot", "/nonexistent/arm.urdf"}, "/nonexistent/arm.urdf", out);
+}

@@ -99,6 +99,20 @@ TEST_CASE("nbs_model: bad --pose-error and --registration exit 2 naming the valu
 #endif
 }
 
+TEST_CASE("nbs_model: a bad --robot exits 2 naming the path", "[tools][options][robot]") {
+#ifdef NBS_MODEL_EXE
+  for (const std::string path : {"/nonexistent/arm.urdf", NBS_DATA_DIR "/meshes/SOURCES.md"}) {
+    const Result r = run(NBS_MODEL_EXE, "--robot " + path);
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, nbs_test::Contains("--robot"));
+    CHECK_THAT(r.err, nbs_test::Contains(path));
+  }
+#else
+  WARN("nbs_model is not built (it needs Embree): nothing to check");
+#endif
+}
+
 TEST_CASE("shared options: --config", "[tools][options]") {
   const std::vector<std::string> tools = mesh_tools();
   if (tools.empty()) {

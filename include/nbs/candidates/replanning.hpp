@@ -17,6 +17,8 @@
 ///   sample it is in view (detail::in_view: FOV, working range, incidence) and the ray from the sample to the
 ///   target, shortened by `target_clearance_voxels`·l_v, meets no occupied voxel.
 /// - Collision: collision_free_fraction (collision.hpp), checked only when the occlusion test passed (Sec. 4.5.2).
+/// - Robot (issue 19): an optional `PathAcceptor` runs last on a rotation that passed both tests (e.g. "can the arm
+///   fly this path", NbsPlanner's RobotReach); a refused rotation is skipped like a colliding one. Default: accept.
 
 #include <cmath>
 #include <cstdint>
@@ -75,6 +77,7 @@ enum class ReplanOutcome : std::uint8_t {
   rotated,               ///< a rotation (β_x, β_y) ≠ (0, 0) passed; the path was replaced
   dropped_occluded,      ///< no rotation saw enough targets
   dropped_in_collision,  ///< some rotations saw enough targets, but each of them collided too much
+  dropped_unreachable,   ///< some rotations passed occlusion and collision, but the PathAcceptor refused each
 };
 
 [[nodiscard]] constexpr std::string_view to_string(ReplanOutcome o) {
@@ -83,6 +86,7 @@ enum class ReplanOutcome : std::uint8_t {
     case ReplanOutcome::rotated: return "rotated";
     case ReplanOutcome::dropped_occluded: return "dropped: occluded for every rotation";
     case ReplanOutcome::dropped_in_collision: return "dropped: in collision for every unoccluded rotation";
+    case ReplanOutcome::dropped_unreachable: return "dropped: the robot cannot execute any free unoccluded rotation";
   }
   return "unknown outcome";
 }
@@ -97,9 +101,22 @@ struct ReplanReport {
   double collision_free_fraction = 0.0;
   int rotations_tried = 0;    ///< 1 … (2·angle_steps + 1)²
   int collision_checks = 0;   ///< rotations whose collision test ran
+  int acceptor_checks = 0;    ///< rotations the PathAcceptor was asked about (passed occlusion and collision)
+  int acceptor_refusals = 0;  ///< of them refused
   [[nodiscard]] bool accepted() const {
     return outcome == ReplanOutcome::unchanged || outcome == ReplanOutcome::rotated;
   }
+};
+
+/// A final test of a replanned path: `a(path)` is true if the path may be kept (e.g. the robot can fly it).
+template <class A>
+concept PathAcceptor = requires(const A& a, const LinearScanPath& path) {
+  { a(path) } -> std::convertible_to<bool>;
+};
+
+/// Accepts every path (Alg. 3 as written).
+struct AcceptAnyPath {
+  [[nodiscard]] bool operator()(const LinearScanPath&) const { return true; }
 };
 
 /// R(a, β) of Eq. 4.29 (its 3 × 3 part): a aᵀ + cos β (I − a aᵀ) + sin β [a]×, the right-handed rotation by β about
@@ -178,12 +195,13 @@ template <VoxelSpace Space>
 
 /// Alg. 3 on one scan path. On acceptance `path` is replaced by the accepted rotation (unchanged for (0, 0));
 /// when dropped it is left as it was. `targets` must not be empty. Throws InvalidArgument (path unchanged) on an
-/// invalid setting or sensor, empty or non-finite targets, or an aim behind the sensor.
+/// invalid setting or sensor, empty or non-finite targets, or an aim behind the sensor. `accept` runs last on a
+/// rotation that passed occlusion and collision (see the file comment).
 /// Deterministic; thread-safe if the space and the checker are only read.
-template <VoxelSpace Space, CollisionChecker Checker>
+template <VoxelSpace Space, CollisionChecker Checker, PathAcceptor Accept = AcceptAnyPath>
 [[nodiscard]] ReplanReport replan(LinearScanPath& path, const Vec3& aim, std::span<const SurfaceTarget> targets,
                                   const Space& space, const Checker& checker, const SensorGeometry& sensor,
-                                  const ReplanSetting& setting = {}) {
+                                  const ReplanSetting& setting = {}, const Accept& accept = {}) {
   setting.validate();
   sensor.validate();
   detail::require(!targets.empty(), "replan: the candidate has no target surface point");
@@ -205,6 +223,12 @@ template <VoxelSpace Space, CollisionChecker Checker>
       const double free = collision_free_fraction(checker, candidate, setting.portion_m);
       report.collision_free_fraction = std::max(report.collision_free_fraction, free);
       if (free < setting.min_collision_free_fraction) continue;
+      ++report.acceptor_checks;
+      if (!static_cast<bool>(accept(candidate))) {
+        ++report.acceptor_refusals;
+        report.outcome = ReplanOutcome::dropped_unreachable;
+        continue;
+      }
       report.outcome = (bx == 0.0 && by == 0.0) ? ReplanOutcome::unchanged : ReplanOutcome::rotated;
       report.beta_x_rad = bx;
       report.beta_y_rad = by;
@@ -213,6 +237,7 @@ template <VoxelSpace Space, CollisionChecker Checker>
       path = candidate;
       return report;
     }
+  if (report.acceptor_refusals > 0) report.outcome = ReplanOutcome::dropped_unreachable;
   if (!any_above_support) report.outcome = ReplanOutcome::dropped_in_collision;  // inside the support everywhere
   return report;
 }
@@ -220,13 +245,14 @@ template <VoxelSpace Space, CollisionChecker Checker>
 /// Alg. 3 on a ScanCandidate: pivot `aim.point`, targets `targets` (or `{aim}` if empty). After a rotation with
 /// β_x ≠ 0 the path still runs along the old s_y (in the s'_y–s'_z plane): the aim is at d_s along s'_z from the
 /// path point of its own parameter, but ScanCandidate's invariant (offset from s'_p¹ ∥ s'_y) holds only for β_x = 0.
-template <VoxelSpace Space, CollisionChecker Checker>
+template <VoxelSpace Space, CollisionChecker Checker, PathAcceptor Accept = AcceptAnyPath>
 [[nodiscard]] ReplanReport replan(ScanCandidate& candidate, const Space& space, const Checker& checker,
-                                  const SensorGeometry& sensor, const ReplanSetting& setting = {}) {
+                                  const SensorGeometry& sensor, const ReplanSetting& setting = {},
+                                  const Accept& accept = {}) {
   const std::span<const SurfaceTarget> targets =
       candidate.targets.empty() ? std::span<const SurfaceTarget>(&candidate.aim, 1)
                                 : std::span<const SurfaceTarget>(candidate.targets);
-  return replan(candidate.path, candidate.aim.point, targets, space, checker, sensor, setting);
+  return replan(candidate.path, candidate.aim.point, targets, space, checker, sensor, setting, accept);
 }
 
 /// Alg. 3 on every candidate (Sec. 4.5.2: before the NBS is selected): replans the accepted ones in place, erases

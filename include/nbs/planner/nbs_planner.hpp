@@ -13,7 +13,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -22,6 +24,7 @@
 #include "nbs/planner/detail/components.hpp"
 #include "nbs/planner/detail/planner_parts.hpp"
 #include "nbs/planner/planner_types.hpp"
+#include "nbs/planner/robot_policy.hpp"
 #include "nbs/planner/search_policy.hpp"
 #include "nbs/planner/utility_policy.hpp"
 #include "nbs/core/detail/random.hpp"
@@ -58,11 +61,12 @@ concept SpaceTrackingCollisionChecker = CollisionChecker<C> && requires(C& c, co
 
 /// Every policy of NbsPlanner, checked once at the class (each concept names what its policy lacks).
 template <class Utility, class Search, class Sensor, class Collision, class Termination, class Space, class Mesh,
-          class Coverage, class Registration>
+          class Coverage, class Registration, class Reach = FreeFlying>
 concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSearchPolicy<Search, Mesh, Space> &&
                           UtilityPolicy<Utility, Space, Sensor> && TerminationCriterion<Termination> &&
                           CollisionChecker<Collision> && PlannerSensor<Sensor> &&
-                          CoverageEstimator<Coverage, Mesh, Space> && RegistrationPolicy<Registration, Mesh>;
+                          CoverageEstimator<Coverage, Mesh, Space> && RegistrationPolicy<Registration, Mesh> &&
+                          RobotPolicy<Reach, Space>;
 
 /// The composed Next-Best-Scan planner. Policies, in the order users change them (defaults = the thesis's best
 /// method C_H, Tab. 4.5, with nbs's noise-robust mesh and ĉ_m):
@@ -77,12 +81,15 @@ concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSea
 ///   thesis's Sec. 3.3.1);
 /// - `Coverage`: the ĉ_m form (CoverageEstimator, public member `coverage`; ThesisCoverage for Eq. 4.35 as written);
 /// - `Registration`: the registration step before each scan is integrated (RegistrationPolicy, public member
-///   `registration`; NoRegistration for exact poses, Icp for a robot's pose error, Sec. 3.2.3).
+///   `registration`; NoRegistration for exact poses, Icp for a robot's pose error, Sec. 3.2.3);
+/// - `Reach`: who carries the sensor (robot_policy.hpp, public member `robot`): FreeFlying (nothing checked) or
+///   `RobotReach<R>` (Alg. 3 keeps only candidates R can fly; the chosen one is re-checked; see next_best_scan).
 template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler,
           class Collision = NoCollisions, class Termination = DefaultTermination,
           class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh,
-          class Coverage = UnseenLoopCoverage, class Registration = NoRegistration>
-  requires PlannerPolicies<Utility, Search, Sensor, Collision, Termination, Space, Mesh, Coverage, Registration>
+          class Coverage = UnseenLoopCoverage, class Registration = NoRegistration, class Reach = FreeFlying>
+  requires PlannerPolicies<Utility, Search, Sensor, Collision, Termination, Space, Mesh, Coverage, Registration,
+                           Reach>
 class NbsPlanner {
 public:
   using SpaceType = Space;
@@ -91,6 +98,7 @@ public:
   using UtilityType = Utility;
   using SensorType = Sensor;
   using CoverageType = Coverage;
+  using ReachType = Reach;
   using Setting = PlannerSetting;
 
 private:
@@ -127,6 +135,9 @@ public:
   Collision collision;
   Coverage coverage{};
   Registration registration{};
+  /// The robot carrying the sensor (FreeFlying: none). Its configuration follows the scans: integrate() sets it to
+  /// the IK solution of each scan's last sensor pose (kept if unreachable).
+  Reach robot{};
 
   // ---- The loop ----------------------------------------------------------------------------------------------------
   /// Integrates one scan (Fig. 4.1): registration (the Registration policy, Sec. 3.2.3; a correction moves the whole
@@ -188,6 +199,9 @@ public:
       r.t_coverage_s = lap();
     }
     ++scans_;  // after the models: a throw above leaves n_s unchanged
+    if constexpr (kHasRobot) {
+      if (robot.active() && !scan_in.profile_poses.empty()) robot.scanned(scan_in.profile_poses.back());
+    }
     // Process control, Eq. (4.38): one-way switch BS → HR when ĉ_m grows by less than mode_switch_gain.
     const SearchMode proposed = control_.update(coverage_);
     if constexpr (Search::kHasRescan) {
@@ -208,7 +222,10 @@ public:
 
   /// Plans the next best scan (see PlanStatus): generates candidates for the current mode, replans them with
   /// Alg. 3, adds them to the candidate set S, scores S with the utility and removes and returns the best. Never
-  /// returns `ok` without a path.
+  /// returns `ok` without a path. With an active robot, Alg. 3 also requires the robot to fly the path from its
+  /// current configuration, and the chosen candidate is checked again (S may hold candidates of earlier steps):
+  /// if it fails, it leaves S and the next in utility order is checked; if none passes, no_reachable_candidate.
+  /// The chosen path's joint trajectory is PlanResult::joints.
   [[nodiscard]] PlanResult next_best_scan() {
     const auto t0 = std::chrono::steady_clock::now();
     PlanResult out;
@@ -247,7 +264,8 @@ public:
         control_.mark_holes_detected();
       }
     }
-    if (pool_.empty()) return finish(PlanStatus::no_candidates);
+    if (pool_.empty())
+      return finish(st.unreachable > 0 ? PlanStatus::no_reachable_candidate : PlanStatus::no_candidates);
 
     const auto te = std::chrono::steady_clock::now();
     std::vector<LinearScanPath> paths;
@@ -258,9 +276,22 @@ public:
     st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
     st.evaluated = pool_.size();
     if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
-    st.best_utility = res.values[res.best];
-    out.candidate = std::move(pool_[res.best]);
-    pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(res.best));
+    std::size_t chosen = res.best;
+    std::vector<std::size_t> leaving;  // indices into S (and res.values) that leave S
+    if constexpr (kHasRobot) {
+      if (robot.active()) {
+        const std::optional<std::size_t> c = choose_reachable(res, out, st, leaving);
+        if (!c) {
+          erase_from_pool(std::move(leaving));
+          return finish(PlanStatus::no_reachable_candidate);
+        }
+        chosen = *c;
+      }
+    }
+    st.best_utility = res.values[chosen];
+    out.candidate = std::move(pool_[chosen]);
+    leaving.push_back(chosen);
+    erase_from_pool(std::move(leaving));
     return finish(PlanStatus::ok);
   }
 
@@ -348,6 +379,39 @@ private:
       const auto below = [&](const ScanCandidate& c) { return !rs.above_support(c.path); };
       st.dropped += static_cast<std::size_t>(std::ranges::count_if(fresh, below));
       std::erase_if(fresh, below);
+      if constexpr (kHasRobot) {
+        if (robot.active()) {
+          const auto checker = robot.checker(*space_);
+          const auto unreachable = [&](const ScanCandidate& c) {
+            return count_unreachable(reach_failure(checker, c.path, st), st);
+          };
+          const std::size_t n = fresh.size();
+          std::erase_if(fresh, unreachable);
+          st.dropped += n - fresh.size();
+        }
+      }
+    } else if (!fresh.empty() && robot_active()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      if constexpr (kHasRobot) {
+        const auto checker = robot.checker(*space_);
+        std::vector<ScanCandidate> kept;
+        for (ScanCandidate& c : fresh) {
+          PathFailure first = PathFailure::none;  // of this candidate's rotations
+          const auto accept = [&](const LinearScanPath& p) {
+            const PathFailure f = reach_failure(checker, p, st);
+            if (first == PathFailure::none) first = f;
+            return f == PathFailure::none;
+          };
+          const ReplanReport rep = replan(c, *space_, collision, geometry_, rs, accept);
+          if (rep.outcome == ReplanOutcome::dropped_unreachable) count_unreachable(first, st);
+          st.replanned += rep.outcome == ReplanOutcome::rotated ? 1 : 0;
+          st.reach_rotated += rep.accepted() && rep.acceptor_refusals > 0 ? 1 : 0;
+          if (rep.accepted()) kept.push_back(std::move(c));
+          else ++st.dropped;
+        }
+        fresh = std::move(kept);
+      }
+      st.t_replan_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     } else if (!fresh.empty()) {
       const auto t0 = std::chrono::steady_clock::now();
       const std::vector<ReplanReport> reports = replan_candidates(fresh, *space_, collision, geometry_, rs);
@@ -358,6 +422,57 @@ private:
       st.t_replan_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     for (ScanCandidate& c : fresh) pool_.push_back(std::move(c));
+  }
+
+  static constexpr bool kHasRobot = !std::same_as<Reach, FreeFlying>;
+  [[nodiscard]] bool robot_active() const {
+    if constexpr (kHasRobot) return robot.active();
+    return false;
+  }
+
+  /// One reach check of `path` from the robot's configuration (timed and counted in `st`): its failure, none if the
+  /// robot can fly it (then its trajectory goes to `joints` if given).
+  template <class Checker>
+  PathFailure reach_failure(const Checker& checker, const LinearScanPath& path, IterationStats& st,
+                            std::vector<JointVector>* joints = nullptr) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ScanPathReach r = checker.check(path, robot.configuration());
+    ++st.reach_checks;
+    st.t_reach_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (r.ok() && joints) *joints = std::move(r.joints);
+    return r.failure;
+  }
+  /// Counts one unreachable candidate by its failure `f`; returns false for none (nothing counted).
+  static bool count_unreachable(PathFailure f, IterationStats& st) {
+    if (f == PathFailure::none) return false;
+    ++st.unreachable;
+    ++st.unreachable_by_failure[static_cast<std::size_t>(f)];
+    return true;
+  }
+
+  /// The index in S of the best candidate the robot can fly now (res's best first, then by value; ties to the lower
+  /// index), its trajectory in out.joints; the refused ones are appended to `refused` (they leave S).
+  std::optional<std::size_t> choose_reachable(const EvaluationResult& res, PlanResult& out, IterationStats& st,
+                                              std::vector<std::size_t>& refused) {
+    const auto checker = robot.checker(*space_);
+    std::vector<std::size_t> order{res.best};
+    for (const std::size_t i : top_indices(std::span<const double>(res.values), res.values.size()))
+      if (i != res.best) order.push_back(i);
+    std::optional<std::size_t> chosen;
+    for (const std::size_t i : order) {
+      if (!count_unreachable(reach_failure(checker, pool_[i].path, st, &out.joints), st)) {
+        chosen = i;
+        break;
+      }
+      refused.push_back(i);
+    }
+    if (chosen && !out.joints.empty()) robot.planned(out.joints.back());
+    return chosen;
+  }
+  /// Erases the candidates at `indices` (distinct) from S, keeping the order of the rest.
+  void erase_from_pool(std::vector<std::size_t> indices) {
+    std::ranges::sort(indices, std::greater<>{});
+    for (const std::size_t i : indices) pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(i));
   }
 
   template <class Generator>
@@ -382,6 +497,13 @@ private:
   double density_ = 0.0;
   IterationStats last_stats_{};
 };
+
+/// `NbsPlanner<>` (C_H, its default models) planning for the Robot R: set
+/// `planner.robot = RobotReach<R>(r, q_start)`.
+template <Robot R>
+using RobotPlanner = NbsPlanner<IgQualityUtility, BoundaryHoleSpace, LaserStripeProfiler, NoCollisions,
+                                DefaultTermination, ProbabilisticVoxelSpace<>, NoiseRobustStreamingMesh,
+                                UnseenLoopCoverage, NoRegistration, RobotReach<R>>;
 
 /// C_H (or another utility / search / sensor) with the thesis's mesh and ĉ_m as written (Secs. 3.3.1, 4.4):
 /// StreamingMesh and ThesisCoverage. Use both together: the unseen-loop forms are meaningless on the layered mesh.

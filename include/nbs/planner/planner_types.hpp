@@ -3,13 +3,16 @@
 /// \file
 /// Results, statistics and the setting of NbsPlanner (Secs. 4.1, 4.5, 4.6). Units: SI (metres, seconds).
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "nbs/planner/detail/components.hpp"
 #include "nbs/registration/registration.hpp"
+#include "nbs/robot/reachability.hpp"
 #include "nbs/space/block_flush.hpp"
 
 namespace nbs {
@@ -20,6 +23,7 @@ enum class PlanStatus : std::uint8_t {
   nothing_seen_yet,  ///< the mesh has no triangle yet (Sec. 4.1): take a first scan, e.g. NbsPlanner::first_scan()
   no_candidates,     ///< every generator returned nothing (or every candidate was dropped by Alg. 3)
   done,              ///< the termination criterion holds (Sec. 4.6); no further scan is needed
+  no_reachable_candidate,  ///< with a robot: candidates were left, but the robot can execute none of them
 };
 
 [[nodiscard]] constexpr std::string_view to_string(PlanStatus s) {
@@ -28,6 +32,8 @@ enum class PlanStatus : std::uint8_t {
     case PlanStatus::nothing_seen_yet: return "nothing seen yet: the mesh has no triangle (take a first scan)";
     case PlanStatus::no_candidates: return "no scan candidate left (generators empty or all dropped by Alg. 3)";
     case PlanStatus::done: return "done: the termination criterion holds";
+    case PlanStatus::no_reachable_candidate:
+      return "no reachable candidate: the robot cannot execute the scan path of any candidate left";
   }
   return "unknown status";
 }
@@ -88,10 +94,19 @@ struct IterationStats {
   std::size_t replanned = 0;          ///< of them rotated by Alg. 3
   std::size_t dropped = 0;            ///< of them dropped by Alg. 3 or for lying below the support plane
   std::size_t evaluated = 0;          ///< candidates in the set S that were scored
+  /// With a robot (RobotReach): candidates the robot could not execute — new ones dropped by Alg. 3 because every
+  /// rotation that passed occlusion and collision failed the reach check, plus candidates of S refused when chosen
+  /// (re-checked from the current configuration). Included in `dropped` for the new ones. 0 without a robot.
+  std::size_t unreachable = 0;
+  /// Of `unreachable`, by the first failure seen for each (index: PathFailure; none stays 0).
+  std::array<std::size_t, 6> unreachable_by_failure{};
+  std::size_t reach_rotated = 0;      ///< new candidates whose first free rotation was unreachable but a later one not
+  std::size_t reach_checks = 0;       ///< scan paths checked for reach in this step
   double best_utility = 0.0;          ///< utility of the chosen candidate (0 unless ok)
   double t_generate_s = 0.0;          ///< generation time
   double t_replan_s = 0.0;            ///< Alg. 3 time
   double t_evaluate_s = 0.0;          ///< utility evaluation time
+  double t_reach_s = 0.0;             ///< reach checks (inside Alg. 3 and at selection), seconds
   double t_nbs_s = 0.0;               ///< whole next_best_scan() time (t_nbs of Tab. 4.5)
 };
 
@@ -99,6 +114,9 @@ struct IterationStats {
 struct PlanResult {
   PlanStatus status = PlanStatus::no_candidates;
   std::optional<ScanCandidate> candidate;  ///< set iff status == ok; `candidate->path` is the scan to take
+  /// With a robot: the joint trajectory of `candidate->path` (check_scan_path's samples, ≤ 10 mm apart) from the
+  /// current configuration; empty without a robot.
+  std::vector<JointVector> joints;
   IterationStats stats{};
   [[nodiscard]] bool ok() const { return status == PlanStatus::ok && candidate.has_value(); }
   /// The scan path to take; throws InvalidArgument unless ok().

@@ -21,6 +21,7 @@
 #include <variant>
 
 #include "nbs/planner/nbs_planner.hpp"
+#include "nbs/robot/any_robot.hpp"
 #include "nbs/registration/selectable_registration.hpp"
 
 namespace nbs {
@@ -87,7 +88,7 @@ using RuntimeSearch = std::conditional_t<S == SearchSpace::sphere, SphereSpace,
 template <SearchSpace S>
 using RuntimePlannerOf = NbsPlanner<SelectionUtility, RuntimeSearch<S>, LaserStripeProfiler, NoCollisions,
                                     DefaultTermination, ProbabilisticVoxelSpace<>, StreamingMesh, SelectableCoverage,
-                                    SelectableRegistration>;
+                                    SelectableRegistration, RobotReach<AnyRobot>>;
 
 /// The choices that are policy types in NbsPlanner but run-time values in the facade: the mesh's settings and the
 /// form of ĉ_m. Default: NbsPlanner<>'s (NoiseRobustStreamingMesh, UnseenLoopCoverage with the enclosure test).
@@ -163,6 +164,16 @@ public:
   }
   [[nodiscard]] const LaserStripeProfiler& sensor() const {
     return std::visit([](const auto& p) -> const LaserStripeProfiler& { return p.sensor(); }, planner_);
+  }
+  /// Plans for `robot` from now on, standing at `start` (RobotReach); without it the sensor flies freely. Throws
+  /// InvalidArgument (nothing changed) for a bad start or setting.
+  void set_robot(const AnyRobot& robot, const JointVector& start, const RobotReach<AnyRobot>::Setting& setting = {}) {
+    RobotReach<AnyRobot> reach(robot, start, setting);
+    std::visit([&](auto& p) { p.robot = reach; }, planner_);
+  }
+  /// The robot policy (inactive unless set_robot was called): the robot's current configuration, its setting.
+  [[nodiscard]] const RobotReach<AnyRobot>& robot() const {
+    return std::visit([](const auto& p) -> const RobotReach<AnyRobot>& { return p.robot; }, planner_);
   }
   [[nodiscard]] const Aabb& unknown_area() const {
     return std::visit([](const auto& p) -> const Aabb& { return p.unknown_area(); }, planner_);
