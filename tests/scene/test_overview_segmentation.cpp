@@ -4,6 +4,7 @@
 #include "nbs_catch.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -36,6 +37,8 @@ std::vector<ObjectSpec> three_objects() {
 struct Outcome {
   std::size_t visible = 0, clusters = 0, matched = 0, fragments = 0;
   double worst_purity = 1.0;
+  std::size_t points = 0;  ///< of the frame
+  double segment_ms = 0.0;
   double worst_main_share = 1.0;  ///< least share of an object's clustered points in its largest cluster.
 };
 
@@ -49,12 +52,15 @@ Outcome run(const std::vector<ObjectSpec>& objects, std::uint64_t seed, const Sc
   const Viewpoint view = Viewpoint::look_at(eye, Vec3(0.0, 0.0, st.table_height_m + 0.04));
   const embree::OverviewFrame f = scanner.overview(view, half_xtion(), seed);
   REQUIRE(f.labels.size() == f.scan.points.size());
+  Outcome out;
   SegmentationSettings seg_st;
+  const auto t0 = std::chrono::steady_clock::now();
   const Segmentation seg = segment_scene(f.scan.points, seg_st);
+  out.points = f.scan.points.size();
+  out.segment_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   REQUIRE(seg.status == SegmentationStatus::ok);
   CHECK(std::abs(seg.plane.plane.z_at(0.0, 0.0) - st.table_height_m) < 0.002);
   CHECK(seg.plane.plane.normal.z() > std::cos(0.01));
-  Outcome out;
   std::map<int, std::size_t> above;  // labelled points above the plane clearance, per object
   for (std::size_t i = 0; i < f.scan.points.size(); ++i)
     if (f.labels[i] >= 0 && seg.plane.plane.signed_distance(f.scan.points[i]) > seg_st.plane_clearance_m)
@@ -109,8 +115,10 @@ TEST_CASE("overview frame + segmentation: one pure cluster per visible object", 
   st.min_gap_m = 0.03;
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const Outcome o = run(three_objects(), seed, st, Vec3(0.7, 0.3, st.table_height_m + 0.6));
-    std::printf("scene seed %llu: %zu visible objects, %zu clusters, %zu matched, worst purity %.4f\n",
-                static_cast<unsigned long long>(seed), o.visible, o.clusters, o.matched, o.worst_purity);
+    std::printf("scene seed %llu: %zu visible objects, %zu clusters, %zu matched, worst purity %.4f; "
+                "segment_scene %.1f ms for %zu points\n",
+                static_cast<unsigned long long>(seed), o.visible, o.clusters, o.matched, o.worst_purity, o.segment_ms,
+                o.points);
     CHECK(o.visible >= 2);
   }
 }
@@ -129,9 +137,9 @@ TEST_CASE("overview frame + segmentation of the bunny, the mug and the car", "[s
   for (std::uint64_t seed : {1u, 2u}) {
     const Outcome o = run(objects, seed, st, Vec3(-0.5, -0.6, st.table_height_m + 0.7), /*fragments_allowed*/ true);
     std::printf("bunny/mug/car seed %llu: %zu visible objects, %zu clusters (%zu fragments), %zu matched, worst purity "
-                "%.4f, least share of an object's points in its largest cluster %.3f\n",
+                "%.4f, least share of an object's points in its largest cluster %.3f; segment_scene %.1f ms for %zu points\n",
                 static_cast<unsigned long long>(seed), o.visible, o.clusters, o.fragments, o.matched, o.worst_purity,
-                o.worst_main_share);
+                o.worst_main_share, o.segment_ms, o.points);
     CHECK(o.worst_main_share >= 0.8);
     CHECK(o.visible >= 2);
   }
