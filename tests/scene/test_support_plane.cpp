@@ -73,3 +73,37 @@ TEST_CASE("fit_support_plane: bad input and no plane", "[scene][plane]") {
   CHECK(seg.status == SegmentationStatus::no_plane);
   CHECK(seg.objects.empty());
 }
+
+TEST_CASE("segment_scene: two boxes on a table, points below it removed", "[scene][segmentation]") {
+  // Table z = 0.7 on a 2 mm grid over 0.4 x 0.4 m; two box tops (3 cm high, 4 cm wide) on a 2 mm grid; 200 points
+  // under the table.
+  std::vector<Vec3> p;
+  for (int i = 0; i < 200; ++i)
+    for (int j = 0; j < 200; ++j) p.push_back(Vec3(-0.2 + 0.002 * i, -0.2 + 0.002 * j, 0.7));
+  for (const Vec3& c : {Vec3(-0.1, 0.0, 0.73), Vec3(0.1, 0.05, 0.73)})
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; j <= 20; ++j) p.push_back(c + Vec3(-0.02 + 0.002 * i, -0.02 + 0.002 * j, 0.0));
+  for (int i = 0; i < 200; ++i) p.push_back(Vec3(0.001 * i - 0.1, 0.0, 0.6));
+  SegmentationSettings s;
+  const Segmentation seg = segment_scene(p, s);
+  REQUIRE(seg.status == SegmentationStatus::ok);
+  CHECK(seg.removed_points == 40000 + 200);
+  REQUIRE(seg.objects.size() == 2);
+  for (const ObjectHypothesis& h : seg.objects) {
+    CHECK(h.indices.size() == 441);
+    CHECK(h.box.min.z() == Approx(0.7).margin(1e-9));  // standing on the plane
+    CHECK(h.box.max.z() == Approx(0.73 + s.box_margin_m).margin(1e-9));
+    CHECK(h.box.extent().x() == Approx(0.04 + 2 * s.box_margin_m).margin(1e-9));
+    CHECK(h.centroid.z() == Approx(0.73).margin(1e-9));
+  }
+  CHECK(seg.objects[0].centroid.x() == Approx(-0.1).margin(1e-9));
+  // Bad input names the value.
+  s.box_margin_m = -0.01;
+  CHECK_THROWS_WITH(segment_scene(p, s), nbs_test::Contains("box_margin_m"));
+  s = {};
+  s.cluster.min_size = 0;
+  CHECK_THROWS_WITH(segment_scene(p, s), nbs_test::Contains("min_size"));
+  p[5].z() = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(segment_scene(p, SegmentationSettings{}), nbs_test::Contains("point 5"));
+  CHECK_THROWS_WITH(segment_scene(std::vector<Vec3>{}, SegmentationSettings{}), nbs_test::Contains("empty"));
+}
