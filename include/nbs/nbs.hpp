@@ -85,6 +85,11 @@
 #include "nbs/robot/reachability.hpp"
 #include "nbs/robot/robot.hpp"
 
+#include "nbs/scene/euclidean_clusters.hpp"
+#include "nbs/scene/scene_generator.hpp"
+#include "nbs/scene/segmentation.hpp"
+#include "nbs/scene/support_plane.hpp"
+
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
