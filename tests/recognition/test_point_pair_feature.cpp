@@ -55,6 +55,8 @@ TEST_CASE("PpfQuantizer: bin edges, π, the distance cap and the key layout", "[
   CHECK(PpfQuantizer{1.0, 1.0}.angle_bins() == 4);  // ⌈π⌉
   CHECK_THROWS_WITH(PpfQuantizer({0.0, 0.1}).validate(), nbs_test::Contains("distance_step_m"));
   CHECK_THROWS_WITH(PpfQuantizer({0.01, 4.0}).validate(), nbs_test::Contains("angle_step_rad"));
+  CHECK_THROWS_WITH(PpfQuantizer({0.01, 1e-4}).validate(), nbs_test::Contains("angle_step_rad must be in [pi/4096, pi], got 0.0001"));
+  CHECK_NOTHROW(PpfQuantizer({0.01, kPi / 4096}).validate());
   CHECK_THROWS_WITH(PpfQuantizer({std::numeric_limits<double>::quiet_NaN(), 0.1}).validate(),
                     nbs_test::Contains("nan"));
 }

@@ -34,12 +34,13 @@ namespace nbs {
 /// the last bin that starts below π (so an angle of exactly π shares the bin of angles just below it).
 struct PpfQuantizer {
   double distance_step_m = 0.01;                        ///< d_dist, metres (> 0).
-  double angle_step_rad = 2.0 * std::numbers::pi / 30;  ///< d_angle, radians, in (0, π].
+  double angle_step_rad = 2.0 * std::numbers::pi / 30;  ///< d_angle, radians, in [π/4096, π].
 
   void validate() const {
     detail::require_positive("PpfQuantizer::distance_step_m", distance_step_m);
-    detail::require(std::isfinite(angle_step_rad) && angle_step_rad > 0.0 && angle_step_rad <= std::numbers::pi,
-                    "PpfQuantizer::angle_step_rad must be in (0, pi], got ", angle_step_rad);
+    detail::require(std::isfinite(angle_step_rad) && angle_step_rad >= std::numbers::pi / 4096 &&
+                        angle_step_rad <= std::numbers::pi,
+                    "PpfQuantizer::angle_step_rad must be in [pi/4096, pi], got ", angle_step_rad);
   }
   /// Number of angle bins of a feature angle in [0, π]: ⌈π / angle_step_rad⌉.
   [[nodiscard]] std::uint32_t angle_bins() const {

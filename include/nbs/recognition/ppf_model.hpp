@@ -22,7 +22,7 @@ namespace nbs {
 /// Settings of the model description (defaults: Drost et al. 2010).
 struct PpfModelSetting {
   double distance_step_ratio = 0.05;                    ///< τ_d: d_dist = τ_d · model diameter, in (0, 1].
-  double angle_step_rad = 2.0 * std::numbers::pi / 30;  ///< d_angle, radians, in (0, π].
+  double angle_step_rad = 2.0 * std::numbers::pi / 30;  ///< d_angle, radians, in [π/4096, π].
   std::size_t max_points = 2000;                        ///< most subsampled model points (pairs grow as n²).
 
   void validate() const {
