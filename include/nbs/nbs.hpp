@@ -75,6 +75,13 @@
 #include "nbs/mesh/streaming_mesh_settings.hpp"
 #include "nbs/mesh/surface_features.hpp"
 
+#include "nbs/recognition/hypothesis_quality.hpp"
+#include "nbs/recognition/oriented_points.hpp"
+#include "nbs/recognition/point_pair_feature.hpp"
+#include "nbs/recognition/pose_clustering.hpp"
+#include "nbs/recognition/ppf_match.hpp"
+#include "nbs/recognition/ppf_model.hpp"
+
 #include "nbs/registration/hand_eye.hpp"
 #include "nbs/registration/icp.hpp"
 #include "nbs/registration/registration.hpp"

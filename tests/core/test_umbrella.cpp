@@ -10,6 +10,7 @@ TEST_CASE("the umbrella header nbs/nbs.hpp gives a symbol of every folder", "[co
   CHECK(nbs::utility_color(1.0) == nbs::Rgb{0, 255, 0});  // io
   CHECK(nbs::IndexedMesh{}.vertices.empty());  // mesh
   CHECK(nbs::format_method(nbs::parse_method("C_H")) == "C_H");  // planner
+  CHECK(nbs::HypothesisQuality{}.q_h() == 0.0);  // recognition
   CHECK(nbs::FreeFlyingSensor{}.joint_count() == 6);  // robot
   CHECK(nbs::presets::dlr_lsp().range.max_m > 0.0);  // sensor
   CHECK(nbs::scan_path_length({}) == 0.0);  // sim
