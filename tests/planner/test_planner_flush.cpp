@@ -4,6 +4,7 @@
 // disk and came back.
 
 #include "nbs_catch.hpp"
+#include "nbs_temp_dir.hpp"
 
 #include <filesystem>
 #include <map>
@@ -20,17 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("nbs_test_planner_flush_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : nbs_test::TempDir {
+  TempDir() : nbs_test::TempDir("nbs_test_planner_flush_") {}
 };
 
 template <class Space>

@@ -2,6 +2,7 @@
 // HashedBlockBackend flushing of cold blocks to disk: exact round trip (also after further updates and through const
 // access), failed writes leave the space unchanged and are reported, memory drops, LRU budget, folder clean-up.
 #include "nbs_catch.hpp"
+#include "nbs_temp_dir.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -28,17 +29,8 @@ const nbs::test::SphereLspSetup kSetup{.profiles = 20, .rays_per_profile = 60, .
 nbs::Scan scan(int i) { return nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 40 + i); }
 
 // A fresh folder under the system temp dir, removed at scope exit.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("nbs_test_flush_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : nbs_test::TempDir {
+  TempDir() : nbs_test::TempDir("nbs_test_flush_") {}
 };
 
 using StateMap = std::map<std::tuple<int, int, int>, nbs::ThesisState>;

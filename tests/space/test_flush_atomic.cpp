@@ -3,6 +3,7 @@
 // integrate throw FileError with the voxel states, totals and flush counters unchanged; a failed flush after a scan
 // is reported in BlockFlushStats and the scan still succeeds.
 #include "nbs_catch.hpp"
+#include "nbs_temp_dir.hpp"
 
 #include <sys/resource.h>
 
@@ -29,17 +30,8 @@ const nbs::Aabb kBox{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};
 const nbs::test::SphereLspSetup kSetup{.profiles = 20, .rays_per_profile = 60, .noise_sigma_m = 0.0005};
 nbs::Scan scan(int i) { return nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 40 + i); }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("nbs_test_flush_atomic_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : nbs_test::TempDir {
+  TempDir() : nbs_test::TempDir("nbs_test_flush_atomic_") {}
 };
 
 // FNV-1a over (key, state bytes) of every observed voxel in for_each order (sorted by block id for flushed blocks,

@@ -2,6 +2,7 @@
 // Flush folders of a killed process: the next backend's first flush removes them; a live owner's folder (in this
 // process or another) is never removed. POSIX only (fork + SIGKILL).
 #include "nbs_catch.hpp"
+#include "nbs_temp_dir.hpp"
 
 #if defined(__unix__)
 #include <signal.h>
@@ -20,17 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 using Backend = nbs::HashedBlockBackend<nbs::ThesisState>;
 
-struct StaleTempDir {
-  fs::path path;
-  StaleTempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("nbs_test_stale_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~StaleTempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct StaleTempDir : nbs_test::TempDir {
+  StaleTempDir() : nbs_test::TempDir("nbs_test_stale_") {}
 };
 
 std::vector<fs::path> block_folders(const fs::path& dir) {
