@@ -8,6 +8,7 @@
 #include <concepts>
 #include <memory>
 #include <type_traits>
+#include <utility>
 
 #include "nbs/planner/detail/components.hpp"
 #include "nbs/space/block_flush.hpp"
@@ -35,11 +36,16 @@ template <VoxelSpace Space, class Sensor>
 
 /// Applies PlannerSetting::flush to the space's backend (nothing when it is off). Throws InvalidArgument if it is on
 /// and the backend is not a FlushableBackend reachable through `space.mutable_backend()`.
+/// A space whose backend, reached by `mutable_backend()`, is a FlushableBackend (a conjunction, so a space without
+/// `mutable_backend()` is simply not one).
+template <class Space>
+concept FlushableSpace = requires(Space& s) { s.mutable_backend(); } &&
+                         FlushableBackend<std::remove_cvref_t<decltype(std::declval<Space&>().mutable_backend())>>;
+
 template <class Space>
 void apply_flush_setting(Space& space, const BlockFlushSetting& flush) {
   if (!flush.enabled()) return;
-  if constexpr (requires { space.mutable_backend(); } &&
-                FlushableBackend<std::remove_cvref_t<decltype(space.mutable_backend())>>) {
+  if constexpr (FlushableSpace<Space>) {
     space.mutable_backend().set_flush_policy(flush);
   } else {
     throw InvalidArgument(
