@@ -163,9 +163,7 @@ struct PlannerSetting {
     refine.validate();
     replan.validate();
     detail::require_non_negative("PlannerSetting.standoff_m", standoff_m);
-    detail::require(!flush.directory.empty() || (flush.idle_scans == 0 && flush.memory_budget_bytes == 0),
-                    "PlannerSetting.flush: idle_scans = ", flush.idle_scans, " and memory_budget_bytes = ",
-                    flush.memory_budget_bytes, " need a directory");
+    flush.validate("PlannerSetting.flush");
   }
 };
 

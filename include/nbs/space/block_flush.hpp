@@ -9,6 +9,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
+
+#include "nbs/core/error.hpp"
 
 namespace nbs {
 
@@ -24,6 +27,12 @@ struct BlockFlushSetting {
 
   /// True if this setting flushes anything (a directory and a rule).
   [[nodiscard]] bool enabled() const { return !directory.empty() && (idle_scans > 0 || memory_budget_bytes > 0); }
+  /// Throws InvalidArgument, prefixed with `who`, if a rule is set without a directory.
+  void validate(std::string_view who) const {
+    detail::require(!directory.empty() || (idle_scans == 0 && memory_budget_bytes == 0), who,
+                    ": idle_scans = ", idle_scans, " and memory_budget_bytes = ", memory_budget_bytes,
+                    " need a directory");
+  }
 };
 
 /// What flushing has done so far.

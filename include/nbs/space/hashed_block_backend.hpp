@@ -278,8 +278,7 @@ public:
   /// Sets the automatic flush policy (applied by end_scan()). Throws InvalidArgument if a policy is set without a
   /// directory.
   void set_flush_policy(BlockFlushSetting s) {
-    detail::require(!s.directory.empty() || (s.idle_scans == 0 && s.memory_budget_bytes == 0),
-                    "HashedBlockBackend: a flush policy needs a directory");
+    s.validate("HashedBlockBackend flush policy");
     if (!folder_.empty() && s.directory != setting_.directory) {
       reload_all();
       remove_folder();
