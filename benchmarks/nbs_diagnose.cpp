@@ -3,12 +3,14 @@
 // C_B/C_S) on a mesh and, at every planning step, executes EVERY candidate in the simulated scanner and measures its
 // true gain: the number of not-yet-covered ground-truth samples (non-bottom) within r (3 mm) of the candidate's
 // measured points. Prints per step: candidates, utility of the chosen one, its true gain, the best true gain, the
-// rank of the chosen one by true gain, and the Spearman correlation between utility and true gain.
+// rank of the chosen one by true gain, and the Spearman correlation between utility and true gain; then the source of
+// the chosen candidate (BS: Boundary Search, HR: Hole Rescan) and its utility, and for the Hole Rescan candidates in S
+// their number, best utility, best true gain and mean path length next to the Boundary Search candidates' mean length.
 // With --oracle the planner picks the candidate of largest true gain (an upper bound for the selection given the
 // generated candidates). A research tool, not part of the headline benchmarks.
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--method CODE] [--sensor NAME] [--scans N]
-//                     [--search S|B|H] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG] [--oracle] [--sampling P,R]
+//                     [--search S|B|H] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG|SG] [--oracle] [--sampling P,R]
 //                     [--threads N] [--hmax N] [--thesis-mesh] [--config FILE]   (`--help`; options shared with the
 // other tools: tools/common/options.hpp; a bad value prints the option and the value and exits 2)
 // The planner's defaults: noise-robust mesh, unseen_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
@@ -24,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -74,6 +77,9 @@ struct Shared {
   // log of the last evaluation
   std::vector<double> utility, gain;
   std::size_t chosen = 0;
+  std::function<std::vector<nbs::CandidateSource>()> sources;  // of S, in evaluation order
+  std::vector<nbs::CandidateSource> last_sources;
+  std::vector<double> lengths;
 
   /// New non-bottom samples within r of the points of a scan along `path`.
   [[nodiscard]] double true_gain(const nbs::LinearScanPath& path, const nbs::LaserStripeProfiler& lsp) const {
@@ -107,7 +113,10 @@ struct DiagnosticUtility {
     nbs::EvaluationResult r = u.evaluate(paths, sensor, space, ctx, eval);
     if (std::getenv("NBS_DIAG_COVERAGE")) return r;  // coverage terms only: no true gains
     sh.utility = r.values;
+    if (sh.sources) sh.last_sources = sh.sources();
     sh.gain.assign(paths.size(), 0.0);
+    sh.lengths.clear();
+    for (const auto& p : paths) sh.lengths.push_back(p.length());
     nbs::detail::parallel_for(paths.size(), sh.threads, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) sh.gain[i] = sh.true_gain(paths[i], sensor);
     });
@@ -352,6 +361,11 @@ int run(const Options& opt) {
       planner(params, presets::lsp_by_name(opt.sensor), unknown, ps, models.mesh_settings(params, unknown));
   planner.coverage.setting.form = models.coverage_estimate;
   planner.termination = MaxScansReached(opt.scans);
+  sh.sources = [&planner] {
+    std::vector<CandidateSource> out;
+    for (const ScanCandidate& c : planner.candidate_set()) out.push_back(c.source);
+    return out;
+  };
   CoverageTracker cov = truth.tracker();
   std::printf("scan mode  c_m^    c_a %%  points  cand  chosen_gain  best_gain  rank  spearman\n");
   SimulationSetting sim;
@@ -384,9 +398,26 @@ int run(const Options& opt) {
     const double rho = spearman(sh.utility, sh.gain);
     sum_rho += rho;
     ++steps;
-    std::printf("%4d %-4s %6.3f %7.2f %7zu %5zu %12.0f %10.0f %5ld %9.3f\n", r.scan, mode,
-                r.integration.estimated_coverage, 100 * cov.completeness().c_a(), r.points, sh.gain.size(), got, best,
-                static_cast<long>(rank), rho);
+    std::size_t holes = 0;
+    double hole_u = 0.0, hole_g = 0.0, hole_len = 0.0, bs_len = 0.0;
+    std::size_t bs = 0;
+    for (std::size_t i = 0; i < sh.last_sources.size() && i < sh.gain.size(); ++i) {
+      if (sh.last_sources[i] == CandidateSource::hole_rescan) {
+        ++holes;
+        hole_u = std::max(hole_u, sh.utility[i]);
+        hole_g = std::max(hole_g, sh.gain[i]);
+        hole_len += sh.lengths[i];
+      } else {
+        ++bs;
+        bs_len += sh.lengths[i];
+      }
+    }
+    std::printf("%4d %-4s %6.3f %7.2f %7zu %5zu %12.0f %10.0f %5ld %9.3f  chosen %s u %.3g | holes %zu best_u %.3g best_gain %.0f "
+                "mean_len %.3f | bs mean_len %.3f\n",
+                r.scan, mode, r.integration.estimated_coverage, 100 * cov.completeness().c_a(), r.points,
+                sh.gain.size(), got, best, static_cast<long>(rank), rho,
+                r.candidate && r.candidate->source == CandidateSource::hole_rescan ? "HR" : "BS",
+                sh.utility[sh.chosen], holes, hole_u, hole_g, holes ? hole_len / holes : 0.0, bs ? bs_len / bs : 0.0);
     sh.gain.clear();
   });
   std::printf("final c_a %.2f %%, mean spearman %.3f\n", 100 * cov.completeness().c_a(), steps ? sum_rho / steps : 0.0);
@@ -422,7 +453,7 @@ int main(int argc, char** argv) {
              throw tools::UsageError("--selection", e.what());
            }
          },
-         "selection criterion alone (any search space): R I Q C OA UV RSV RSE PC AE VG")
+         "selection criterion alone (any search space): R I Q C OA UV RSV RSE PC AE VG SG")
       ->type_name("CODE");
   app.add_flag("--oracle", opt.oracle, "pick the candidate of largest true gain");
   app.add_option_function<std::string>(

@@ -4,6 +4,7 @@
 #include "utility_term_conformance.hpp"
 
 #include "nbs/utility/peer_terms.hpp"
+#include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 
 namespace {
@@ -75,6 +76,20 @@ TEST_CASE("UtilityTerm conformance: thesis terms (Eqs. 4.30-4.34) and RandomSele
       return (1.0 - ws.omega) * ev + ws.omega * ms;  // Eq. (4.30)
     });
   }
+  nbs::SurfaceGain::Setting sg;
+  sg.non_free_voxels = 2.0;
+  sg.omega = nbs::modeling_weight(3.0);
+  std::vector<double> lengths(100);
+  for (std::size_t i = 0; i < lengths.size(); ++i) lengths[i] = 0.01 * static_cast<double>(i % 17);
+  check_utility_term_conformance(nbs::SurfaceGain(sg), world(), [&](std::size_t i, const CandidateStream& s) {
+    nbs::RearSideEntropyVI r;
+    nbs::SurfaceQuality q({2.0, sg.lambda, sg.cutoff_rad, true});
+    return (1.0 - sg.omega) * nbs::conformance::evaluate(r, i, s) / 2.0 + sg.omega * nbs::conformance::evaluate(q, i, s);
+  });
+  check_utility_term_conformance(nbs::SurfaceGain(sg, lengths), world(), [&](std::size_t i, const CandidateStream& s) {
+    nbs::SurfaceGain plain(sg);
+    return nbs::conformance::evaluate(plain, i, s) / (lengths[i] + sg.length_offset_m);
+  });
   const nbs::RandomSelection random({42});
   check_utility_term_conformance(random, world(), [&](std::size_t i, const CandidateStream&) {
     nbs::RandomSelection r({42});

@@ -181,9 +181,10 @@ TEST_CASE("runtime facade: every method code parses and round-trips; unknown cod
     CHECK(nbs::parse_method(code) == m);
     codes.insert(code);
   }
-  CHECK(codes.size() == 19);
+  CHECK(codes.size() == nbs::kAllMethods.size());
+  CHECK(codes.size() == 20);
   for (const char* c : {"R_S", "R_B", "R_H", "I_S", "I_B", "I_H", "Q_S", "Q_B", "Q_H", "C_S", "C_B", "C_H", "OA_H",
-                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H"})
+                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H", "SG_H"})
     CHECK(codes.count(c) == 1);
   CHECK(nbs::parse_method(" c_h ") == nbs::Method{nbs::Selection::ig_quality, nbs::SearchSpace::boundary_hole});
   CHECK(nbs::parse_method("r_s") == nbs::Method{nbs::Selection::random, nbs::SearchSpace::sphere});

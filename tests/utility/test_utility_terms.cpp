@@ -9,6 +9,7 @@
 #include "nbs/space/ray_traversal.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
 #include "nbs/utility/peer_terms.hpp"
+#include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 #include "test_terms_fixtures.hpp"
 
@@ -229,6 +230,48 @@ TEST_CASE("weighted utility combines e_v and q_s from one cast (Eq. 4.30)", "[ut
   CHECK(feed(WeightedUtility(s), {{ray, true}}) == Approx(ms));
   s.omega = 1.5;
   CHECK_THROWS_AS(WeightedUtility(s), InvalidArgument);
+}
+
+TEST_CASE("surface gain SG: Eq. 4.30 with rear-side entropy, per metre of scan path", "[utility][sg]") {
+  SurfaceFeatures f;
+  f.border_share = 1.0f;
+  f.mean_density = 0.5f;
+  f.mean_normal = {-1, 0, 0};
+  // One ray: unknown, unknown, free, unknown, occupied (features, head-on). The rear-side run is the last unknown
+  // voxel only (the free voxel ends the first run): P_v = 1·0.5·0.5·(1 − 0.1) = 0.225 there.
+  std::vector<VoxelVisit> ray{vv(0.5, false, false, 0), vv(0.5, false, false, 1), vv(0.1, true, false, 2),
+                              vv(0.5, false, false, 3), vv(0.97, true, true, 4)};
+  for (auto& v : ray) v.direction = Vec3(1, 0, 0);
+  ray[4].features = &f;
+  const double n_v = 4.0, g_rs = 0.225 * H(0.5) / n_v, ms = (1.0 - 0.3 * 0.5) / n_v;
+  SurfaceGain::Setting s;
+  s.non_free_voxels = n_v;
+  for (double omega : {0.0, 0.3, 1.0}) {
+    s.omega = omega;
+    const double bracket = (1 - omega) * g_rs + omega * ms;
+    CHECK(feed(SurfaceGain(s), {{ray, true}}) == Approx(bracket));
+    const std::vector<double> lengths{0.0, 0.15};  // candidate 0: a single view; 1: a 150 mm path
+    SurfaceGain per_metre(s, lengths);
+    per_metre.begin_candidate(1);
+    per_metre.begin_ray();
+    for (const auto& v : ray) per_metre.visit(v);
+    per_metre.end_ray({true, 5});
+    CHECK(per_metre.value() == Approx(bracket / (0.15 + 0.05)));
+    CHECK(feed(SurfaceGain(s, lengths), {{ray, true}}) == Approx(bracket / 0.05));  // candidate 0
+  }
+  // A short path of equal gain wins; the term's bracket is RearSideEntropyVI / N_v and SurfaceQuality.
+  s.omega = 0.0;
+  CHECK(feed(SurfaceGain(s), {{ray, true}}) == Approx(feed(RearSideEntropyVI{}, {{ray, true}}) / n_v));
+  const std::vector<double> bad{std::nan("")};
+  CHECK_THROWS_AS(SurfaceGain(s, bad), InvalidArgument);
+  const std::vector<double> one{0.1};
+  SurfaceGain short_list(s, one);
+  CHECK_THROWS_AS(short_list.begin_candidate(1), InvalidArgument);  // no length for candidate 1
+  s.length_offset_m = 0.0;
+  CHECK_THROWS_AS(SurfaceGain(s), InvalidArgument);
+  s.length_offset_m = 0.05;
+  s.omega = -0.1;
+  CHECK_THROWS_AS(SurfaceGain(s), InvalidArgument);
 }
 
 TEST_CASE("random selection depends on seed and candidate index only", "[utility][thesis]") {

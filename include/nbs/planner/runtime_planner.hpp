@@ -46,15 +46,16 @@ struct Method {
   friend constexpr bool operator==(const Method&, const Method&) = default;
 };
 
-/// The 12 thesis methods (R, I, Q, C × S, B, H) followed by the 7 peer metrics with BS+HR.
-inline constexpr std::array<Method, 19> kAllMethods = [] {
-  std::array<Method, 19> m{};
+/// The 12 thesis methods (R, I, Q, C × S, B, H) followed by the 7 peer metrics and surface gain SG (ours), with
+/// BS+HR.
+inline constexpr std::array<Method, 20> kAllMethods = [] {
+  std::array<Method, 20> m{};
   std::size_t i = 0;
   for (Selection s : {Selection::random, Selection::information_gain, Selection::quality, Selection::ig_quality})
     for (SearchSpace g : {SearchSpace::sphere, SearchSpace::boundary, SearchSpace::boundary_hole}) m[i++] = {s, g};
   for (Selection s : {Selection::occlusion_aware, Selection::unobserved_voxel, Selection::rear_side_voxel,
                       Selection::rear_side_entropy, Selection::proximity_count, Selection::average_entropy,
-                      Selection::vasquez_gomez})
+                      Selection::vasquez_gomez, Selection::surface_gain})
     m[i++] = {s, SearchSpace::boundary_hole};
   return m;
 }();

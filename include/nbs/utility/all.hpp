@@ -8,6 +8,7 @@
 #include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/proximity_field.hpp"
 #include "nbs/utility/selection.hpp"
+#include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 #include "nbs/utility/utility_function.hpp"
 #include "nbs/utility/utility_term.hpp"

@@ -18,6 +18,7 @@
 /// | PC | proximity-count VI | ProximityCountVI |
 /// | AE | average-entropy VI | AverageEntropyVI |
 /// | VG | Vasquez-Gomez area factor | VasquezGomezVI |
+/// | SG | surface gain (ours): Eq. 4.30 with rear-side entropy for e_v, per metre of scan path | SurfaceGain |
 
 #include <array>
 #include <cctype>
@@ -25,10 +26,12 @@
 #include <numbers>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "nbs/core/error.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
 #include "nbs/utility/peer_terms.hpp"
+#include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 
 namespace nbs {
@@ -45,16 +48,17 @@ enum class Selection {
   proximity_count,
   average_entropy,
   vasquez_gomez,
+  surface_gain,
 };
 
 /// Every Selection, in declaration order.
-inline constexpr std::array<Selection, 11> kAllSelections{
+inline constexpr std::array<Selection, 12> kAllSelections{
     Selection::random,          Selection::information_gain, Selection::quality,
     Selection::ig_quality,      Selection::occlusion_aware,  Selection::unobserved_voxel,
     Selection::rear_side_voxel, Selection::rear_side_entropy, Selection::proximity_count,
-    Selection::average_entropy, Selection::vasquez_gomez};
+    Selection::average_entropy, Selection::vasquez_gomez, Selection::surface_gain};
 
-/// The string code of `s` (R, I, Q, C, OA, UV, RSV, RSE, PC, AE, VG).
+/// The string code of `s` (R, I, Q, C, OA, UV, RSV, RSE, PC, AE, VG, SG).
 [[nodiscard]] constexpr std::string_view format_selection(Selection s) {
   switch (s) {
     case Selection::random: return "R";
@@ -68,6 +72,7 @@ inline constexpr std::array<Selection, 11> kAllSelections{
     case Selection::proximity_count: return "PC";
     case Selection::average_entropy: return "AE";
     case Selection::vasquez_gomez: return "VG";
+    case Selection::surface_gain: return "SG";
   }
   return "?";
 }
@@ -98,6 +103,8 @@ struct SelectionSetting {
   std::uint64_t seed = 0;                                ///< Random
   double proximity_d_max_m = 0.015;                      ///< d_max of PC and VG (3 voxels of 5 mm)
   bool peers_count_once = false;                         ///< apply Sec. 4.5.3's visited marking to the peer VIs
+  bool per_metre = true;                                 ///< SG: divide by the scan path length (+ l_0)
+  double length_offset_m = 0.05;                         ///< SG: l_0 of the per-metre form, > 0
 };
 
 /// Evaluates `candidates` with the criterion `sel.selection` (see the table above). N_v is computed from the space
@@ -137,6 +144,21 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
     case Selection::vasquez_gomez: {
       const ProximityField field = ProximityField::build(space, sel.proximity_d_max_m);
       r = evaluate_candidates(candidates, sensor, space, VasquezGomezVI(field), setting);
+      break;
+    }
+    case Selection::surface_gain: {
+      SurfaceGain::Setting g;
+      g.non_free_voxels = non_free_voxel_count(space);
+      g.omega = modeling_weight(sel.n_scans, sel.n_q);
+      g.lambda = sel.lambda;
+      g.cutoff_rad = sel.cutoff_rad;
+      g.length_offset_m = sel.length_offset_m;
+      std::vector<double> lengths;
+      if (sel.per_metre) {
+        lengths.reserve(candidates.size());
+        for (const LinearScanPath& c : candidates) lengths.push_back(c.length());
+      }
+      r = evaluate_candidates(candidates, sensor, space, SurfaceGain(g, lengths), setting);
       break;
     }
   }
