@@ -75,21 +75,27 @@ std::size_t restamp_runs(RunMap& runs, double c_obs) {
   return changed;
 }
 
-/// The mesh of an eval.json (path relative to the working directory, as nbs_eval was called), placed as the runs
-/// placed it. Throws UsageError naming the file.
-[[nodiscard]] inline IndexedMesh eval_mesh(const Json& config) {
-  const std::string path = config.at("mesh").get<std::string>();
-  const std::string up = config.at("up").get<std::string>();
-  if (up != "x" && up != "y" && up != "z") throw UsageError("eval.json: up must be x, y or z, got '" + up + "'");
+/// The ground-truth mesh at `path`, placed as every run places it (normalize_on_pedestal to `size_m` with `up`).
+/// Throws UsageError naming the file.
+[[nodiscard]] inline IndexedMesh load_eval_mesh(const std::string& path, double size_m, UpAxis up) {
   try {
     IndexedMesh mesh = load_mesh(path);
-    if (mesh.triangles.empty()) throw UsageError("mesh '" + path + "' has no triangle");
-    normalize_on_pedestal(mesh, config.at("size_m").get<double>(),
-                          up == "x" ? UpAxis::x : (up == "y" ? UpAxis::y : UpAxis::z));
+    if (mesh.triangles.empty() || mesh.vertices.size() < 3)
+      throw UsageError("mesh '" + path + "' is not a mesh: it has no triangle");
+    normalize_on_pedestal(mesh, size_m, up);
     return mesh;
   } catch (const Error& e) {
     throw UsageError("mesh '" + path + "': " + e.what());
   }
+}
+
+/// The mesh of an eval.json (path relative to the working directory, as nbs_eval was called), placed as the runs
+/// placed it. Throws UsageError naming the file.
+[[nodiscard]] inline IndexedMesh eval_mesh(const Json& config) {
+  const std::string up = config.at("up").get<std::string>();
+  const std::optional<UpAxis> axis = tools::parse_up(up);
+  if (!axis) throw UsageError("eval.json: up must be x, y or z, got '" + up + "'");
+  return load_eval_mesh(config.at("mesh").get<std::string>(), config.at("size_m").get<double>(), *axis);
 }
 
 }  // namespace nbs::eval::detail

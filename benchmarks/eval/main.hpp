@@ -158,15 +158,7 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     throw UsageError(e.what());
   }
   const LaserStripeProfiler sensor = sensor_preset(setup.sensor);
-  IndexedMesh mesh;
-  try {
-    mesh = load_mesh(o.mesh);
-    if (mesh.triangles.empty() || mesh.vertices.size() < 3)
-      throw UsageError("mesh '" + o.mesh + "' is not a mesh: it has no triangle");
-    normalize_on_pedestal(mesh, o.size_m, o.up);
-  } catch (const Error& e) {
-    throw UsageError("mesh '" + o.mesh + "': " + e.what());
-  }
+  const IndexedMesh mesh = load_eval_mesh(o.mesh, o.size_m, o.up);
 
   // --robot: loaded and the object checked to be in its reach before any work (a bad file names its path).
   std::optional<tools::LoadedRobot> robot;
@@ -354,6 +346,7 @@ inline int c_obs_command(const std::vector<std::string>& args, std::ostream& out
     }
   }
   if (dirs.empty()) throw UsageError("c-obs: give at least one nbs_eval output directory");
+  std::map<std::string, double> c_obs_by_setup;
   for (const std::string& d : dirs) {
     const fs::path dir(d);
     if (!fs::exists(dir / "eval.json")) throw UsageError("c-obs: '" + d + "' has no eval.json (not an nbs_eval output)");
@@ -364,12 +357,20 @@ inline int c_obs_command(const std::vector<std::string>& args, std::ostream& out
       throw UsageError("c-obs: '" + (dir / "eval.json").string() + "' is not valid JSON: " + e.what());
     }
     const Json& setup = config.at("setup");
-    const IndexedMesh mesh = eval_mesh(config);
-    const LaserStripeProfiler sensor = sensor_preset(setup.at("sensor").get<std::string>());
-    const embree::SimulatedScanner scanner(mesh);
-    const GroundTruth truth = eval_ground_truth(mesh, setup.at("completeness_radius_m").get<double>());
+    // Outputs of one mesh, placement, sensor and radius share their c_obs: computed once per invocation.
+    const std::string key = Json::array({config.at("mesh"), config.at("up"), config.at("size_m"), setup.at("sensor"),
+                                          setup.at("completeness_radius_m")})
+                                .dump();
     const double before = config.value("c_obs", -1.0);
-    const double c_obs = compute_c_obs(scanner, truth, sensor, threads, log);
+    auto cached = c_obs_by_setup.find(key);
+    if (cached == c_obs_by_setup.end()) {
+      const IndexedMesh mesh = eval_mesh(config);
+      const LaserStripeProfiler sensor = sensor_preset(setup.at("sensor").get<std::string>());
+      const embree::SimulatedScanner scanner(mesh);
+      const GroundTruth truth = eval_ground_truth(mesh, setup.at("completeness_radius_m").get<double>());
+      cached = c_obs_by_setup.emplace(key, compute_c_obs(scanner, truth, sensor, threads, log)).first;
+    }
+    const double c_obs = cached->second;
     RunMap runs;
     read_runs(dir / "runs.jsonl", runs, log);
     restamp_runs(runs, c_obs);

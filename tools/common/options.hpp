@@ -45,6 +45,13 @@ inline constexpr int kUsageExit = 2;
 inline constexpr UpAxis kDefaultUp = UpAxis::y;
 
 [[nodiscard]] inline std::string_view format_up(UpAxis up) { return up == UpAxis::x ? "x" : up == UpAxis::y ? "y" : "z"; }
+/// The axis named "x", "y" or "z"; std::nullopt for anything else.
+[[nodiscard]] inline std::optional<UpAxis> parse_up(std::string_view v) {
+  if (v == "x") return UpAxis::x;
+  if (v == "y") return UpAxis::y;
+  if (v == "z") return UpAxis::z;
+  return std::nullopt;
+}
 
 /// A value that is wrong for its option; `parse` prints it and exits 2.
 struct UsageError : CLI::ValidationError {
@@ -63,10 +70,9 @@ inline CLI::Option* add_up(CLI::App& app, UpAxis& up) {
       .add_option_function<std::string>(
           "--up",
           [&up](const std::string& v) {
-            if (v == "x") up = UpAxis::x;
-            else if (v == "y") up = UpAxis::y;
-            else if (v == "z") up = UpAxis::z;
-            else throw UsageError("--up", "expects x, y or z, got '" + v + "'");
+            const std::optional<UpAxis> a = parse_up(v);
+            if (!a) throw UsageError("--up", "expects x, y or z, got '" + v + "'");
+            up = *a;
           },
           "axis of the mesh file that points up: x, y or z (default y, as in the bundled bunny)")
       ->type_name("AXIS");
