@@ -37,28 +37,24 @@ nbs::conformance::IndexedEdgeMesh box_mesh(bool open) {
 
 const nbs::Aabb kBox{Vec3(-0.1, -0.1, -0.1), Vec3(0.15, 0.15, 0.15)};
 
-/// One scan from above whose points lie on the missing top face: its voxels become surface (p > 0.6).
-nbs::Scan top_face_scan() {
+/// One scan from 0.12 m above the box's centre: a 43 × 43 grid of points (1 mm apart, covering [0, s]²) at height
+/// `z` (m). Every beam crosses the top face's plane; its voxels become surface (z = s) or free (z below it).
+nbs::Scan grid_scan_at(double z) {
   nbs::Scan scan;
   nbs::Pose o = nbs::Pose::Identity();
   o.translation() = Vec3(kSide / 2, kSide / 2, 0.12);
   scan.profile_poses.push_back(o);
   for (int i = 0; i <= 42; ++i)
-    for (int j = 0; j <= 42; ++j) scan.add_point(Vec3(0.001 * i + 0.0002, 0.001 * j + 0.0002, kSide), 0);
+    for (int j = 0; j <= 42; ++j) scan.add_point(Vec3(0.001 * i + 0.0002, 0.001 * j + 0.0002, z), 0);
   return scan;
 }
 
-/// Beams from 0.12 m above the open box through its missing top face onto its floor (z = 0.2 mm): the top face's
-/// voxels are measured free (several beams each), the floor's are surface — looking into a cup.
-nbs::Scan into_box_scan() {
-  nbs::Scan scan;
-  nbs::Pose o = nbs::Pose::Identity();
-  o.translation() = Vec3(kSide / 2, kSide / 2, 0.12);
-  scan.profile_poses.push_back(o);
-  for (int i = 0; i <= 42; ++i)
-    for (int j = 0; j <= 42; ++j) scan.add_point(Vec3(0.001 * i + 0.0002, 0.001 * j + 0.0002, 0.0002), 0);
-  return scan;
-}
+/// Points on the missing top face: its voxels become surface (p > 0.6).
+nbs::Scan top_face_scan() { return grid_scan_at(kSide); }
+
+/// Beams through the missing top face onto the floor (z = 0.2 mm): the top face's voxels are measured free (several
+/// beams each), the floor's are surface — looking into a cup.
+nbs::Scan into_box_scan() { return grid_scan_at(0.0002); }
 
 /// Three spherical layers of points around the box (radii 70–76 mm), each beam 2 mm long from just inside its point:
 /// a closed shell of surface voxels that walls the top face in (and leaves the box's voxels unknown).
