@@ -226,10 +226,11 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
           "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
   const nbs::SimulationSetting sim = loop_setting(5, 4);
-  // The unseen_loops form of ĉ_m: UnseenLoopCoverage without the enclosure test.
+  // The unseen_loops form of ĉ_m: UnseenLoopCoverage without the enclosure test and the free-seam rule.
   nbs::NbsPlanner<> p1({}, light_lsp(), sphere_box(), setting(1));
   nbs::NbsPlanner<> p2({}, light_lsp(), sphere_box(), setting(2));
   p1.coverage.setting.enclosure = p2.coverage.setting.enclosure = false;
+  p1.coverage.setting.free_space = p2.coverage.setting.free_space = false;
   const auto a = nbs::run_simulation(p1, sphere, sim);
   const auto b = nbs::run_simulation(p2, sphere, sim);
   REQUIRE(a.records.size() == 4);
