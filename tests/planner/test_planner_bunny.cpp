@@ -66,7 +66,7 @@ TEST_CASE("bunny loop: same seed gives the same scan sequence with 1 and 2 threa
   nbs::test::check_same_plan(a, b);
 }
 
-// The acceptance target of issue 5, default NbsPlanner<> (noise-robust mesh, unseen_open ĉ_m). Release (2 threads):
+// The acceptance target of issue 5, default NbsPlanner<> (noise-robust mesh, then unseen_open ĉ_m). Release (2 threads):
 // seed 1 stops at ĉ_m 0.806 after 8 scans; the thesis's mesh and ĉ_m (ThesisMeshPlanner, second case):
 // 0.818 after 14. Under ASan + UBSan the loops run six scans only (time), which checks memory safety, not the target.
 #if defined(__SANITIZE_ADDRESS__)
