@@ -13,7 +13,7 @@
 //                     [--search S|B|H] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG|SG] [--oracle] [--sampling P,R]
 //                     [--threads N] [--hmax N] [--thesis-mesh] [--config FILE]   (`--help`; options shared with the
 // other tools: tools/common/options.hpp; a bad value prints the option and the value and exits 2)
-// The planner's defaults: noise-robust mesh, unseen_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
+// The planner's defaults: noise-robust mesh, unknown_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
 // (RuntimeModels::thesis).
 // Environment: NBS_DIAG_FEATURES=1 prints per step the number of voxels with surface features and their mean b_i, d̄_i
 // and 1 − q_i (Eqs. 4.26, 4.28, 4.33), the share with b_i > 0; NBS_DIAG_DUMP=PREFIX
@@ -203,7 +203,7 @@ void print_loops(const Planner& planner, const nbs::Parameters& params, const st
   using namespace nbs;
   const auto& mesh = planner.mesh();
   const auto& space = planner.space();
-  // the unseen share as the planner's ĉ_m form counts it
+  // the unseen share as the planner's ĉ_m form counts it per sample (without unknown_open's per-loop free-seam rule)
   const auto seen = planner.coverage.seen(space, params, planner.unknown_area());
   std::vector<std::pair<double, std::size_t>> order;
   double total = 0.0;

@@ -6,8 +6,8 @@
 ///
 /// Set-up file (JSON object, every key optional; docs/eval/configs/*.json): each field of nbs::Parameters by its C++
 /// name (Tab. 4.3, SI units, e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset
-/// ("dlr_lsp", "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unseen_open"
-/// (default) | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
+/// ("dlr_lsp", "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unknown_open"
+/// (default) | "unseen_open" | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
 /// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
@@ -46,8 +46,8 @@ struct Setup {
   /// Planner choices that are not thesis parameters: keep_exploring (true | false); threads and seed are the
   /// runner's.
   PlannerSetting planner{};
-  /// The mesh ("mesh": "thesis" | "noise_robust") and the ĉ_m form ("coverage_estimate": "unseen_open" |
-  /// "unseen_loops" | "thesis") of the runtime facade.
+  /// The mesh ("mesh": "thesis" | "noise_robust") and the ĉ_m form ("coverage_estimate": "unknown_open" |
+  /// "unseen_open" | "unseen_loops" | "thesis") of the runtime facade.
   RuntimeModels models{};
 };
 
@@ -239,8 +239,8 @@ inline constexpr std::string_view kUsage =
     "  --threads N       parallel runs (each run is single-threaded; results do not depend on N) (default 2)\n"
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
     "  --setup FILE      planner set-up, JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp |\n"
-    "                    scancontrol_2700_100, \"mesh\": noise_robust | thesis, \"coverage_estimate\": unseen_open |\n"
-    "                    unseen_loops | thesis, \"keep_exploring\": true | false (defaults first;\n"
+    "                    scancontrol_2700_100, \"mesh\": noise_robust | thesis, \"coverage_estimate\": unknown_open |\n"
+    "                    unseen_open | unseen_loops | thesis, \"keep_exploring\": true | false (defaults first;\n"
     "                    docs/eval/configs/thesis.json: the thesis's)\n"
     "  --sensor NAME     laser stripe profiler preset: dlr_lsp | scancontrol_2700_100; overrides the set-up's\n"
     "                    \"sensor\" (default: the set-up's, dlr_lsp)\n"

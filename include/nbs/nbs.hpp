@@ -114,6 +114,7 @@
 #include "nbs/sim/pose_error.hpp"
 #include "nbs/sim/ray_caster.hpp"
 #include "nbs/sim/scan_path_length.hpp"
+#include "nbs/sim/test_objects.hpp"
 #include "nbs/sim/sphere_on_pedestal.hpp"
 #include "nbs/sim/surface_samples.hpp"
 

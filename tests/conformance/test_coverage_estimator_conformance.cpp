@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// CoverageEstimator conformance: ThesisCoverage, UnseenLoopCoverage (with and without the enclosure test),
-// SelectableCoverage (all three forms) and a user-written estimator, on a cube and on the cube without its top face.
+// CoverageEstimator conformance: ThesisCoverage, UnseenLoopCoverage (with and without the enclosure and free-space
+// tests), SelectableCoverage (all four forms) and a user-written estimator, on a cube and on the cube without its
+// top face.
 // Oracle: the analytic areas — A_filled = 5 s², one border loop of 4 edges with A_hole = s² (Eq. 4.37), so Eq. 4.35
 // gives 5/6; the unseen forms weight the loop by the share of its fan samples that are not seen (Sec. 4.5.1's
-// surface voxels, or walled in with the enclosure test).
+// surface voxels, or walled in with the enclosure test, or measured free with the free-space test).
 #include "nbs_catch.hpp"
 
 #include <algorithm>
@@ -36,16 +37,24 @@ nbs::conformance::IndexedEdgeMesh box_mesh(bool open) {
 
 const nbs::Aabb kBox{Vec3(-0.1, -0.1, -0.1), Vec3(0.15, 0.15, 0.15)};
 
-/// One scan from above whose points lie on the missing top face: its voxels become surface (p > 0.6).
-nbs::Scan top_face_scan() {
+/// One scan from 0.12 m above the box's centre: a 43 × 43 grid of points (1 mm apart, covering [0, s]²) at height
+/// `z` (m). Every beam crosses the top face's plane; its voxels become surface (z = s) or free (z below it).
+nbs::Scan grid_scan_at(double z) {
   nbs::Scan scan;
   nbs::Pose o = nbs::Pose::Identity();
   o.translation() = Vec3(kSide / 2, kSide / 2, 0.12);
   scan.profile_poses.push_back(o);
   for (int i = 0; i <= 42; ++i)
-    for (int j = 0; j <= 42; ++j) scan.add_point(Vec3(0.001 * i + 0.0002, 0.001 * j + 0.0002, kSide), 0);
+    for (int j = 0; j <= 42; ++j) scan.add_point(Vec3(0.001 * i + 0.0002, 0.001 * j + 0.0002, z), 0);
   return scan;
 }
+
+/// Points on the missing top face: its voxels become surface (p > 0.6).
+nbs::Scan top_face_scan() { return grid_scan_at(kSide); }
+
+/// Beams through the missing top face onto the floor (z = 0.2 mm): the top face's voxels are measured free (several
+/// beams each), the floor's are surface — looking into a cup.
+nbs::Scan into_box_scan() { return grid_scan_at(0.0002); }
 
 /// Three spherical layers of points around the box (radii 70–76 mm), each beam 2 mm long from just inside its point:
 /// a closed shell of surface voxels that walls the top face in (and leaves the box's voxels unknown).
@@ -79,9 +88,8 @@ struct KnownAreaCoverage {
 };
 
 template <class C>
-nbs::CoverageResult on_open_box(const C& c, const MyVoxelSpace& space) {
+nbs::CoverageResult on_open_box(const C& c, const MyVoxelSpace& space, const nbs::Parameters& params = {}) {
   const auto open = box_mesh(true);
-  const nbs::Parameters params;
   return c.estimate(nbs::CoverageInput<nbs::conformance::IndexedEdgeMesh, MyVoxelSpace>{open, space, params, kBox});
 }
 
@@ -97,7 +105,8 @@ TEMPLATE_TEST_CASE("CoverageEstimator conformance", "[conformance][coverage]", n
 
 TEST_CASE("ĉ_m forms on the open box: Eq. 4.35 is 5/6; the unseen forms drop the loop once it is seen",
           "[conformance][coverage]") {
-  const nbs::UnseenLoopCoverage open_form{{true}}, loops_form{{false}};
+  const nbs::UnseenLoopCoverage open_form{{.enclosure = true, .free_space = false}},
+      loops_form{{.enclosure = false, .free_space = false}}, unknown_form{};
   const nbs::ThesisCoverage thesis;
   const double five_sixths = 5.0 / 6.0;
   SECTION("nothing seen: every form counts the whole loop") {
@@ -107,7 +116,8 @@ TEST_CASE("ĉ_m forms on the open box: Eq. 4.35 is 5/6; the unseen forms drop th
     CHECK(t.holes == 1);
     CHECK(on_open_box(loops_form, empty).coverage == Approx(five_sixths).epsilon(1e-12));
     CHECK(on_open_box(open_form, empty).coverage == Approx(five_sixths).epsilon(1e-12));
-    CHECK(on_open_box(nbs::SelectableCoverage{}, empty).coverage == on_open_box(open_form, empty).coverage);
+    CHECK(on_open_box(unknown_form, empty).coverage == Approx(five_sixths).epsilon(1e-12));
+    CHECK(on_open_box(nbs::SelectableCoverage{}, empty).coverage == on_open_box(unknown_form, empty).coverage);
   }
   SECTION("the top face measured as surface: the unseen forms reach 1, Eq. 4.35 does not look at the space") {
     MyVoxelSpace seen(0.005, kBox);
@@ -115,12 +125,34 @@ TEST_CASE("ĉ_m forms on the open box: Eq. 4.35 is 5/6; the unseen forms drop th
     CHECK(on_open_box(thesis, seen).coverage == Approx(five_sixths).epsilon(1e-12));
     CHECK(on_open_box(loops_form, seen).coverage == Approx(1.0).epsilon(1e-12));
     CHECK(on_open_box(open_form, seen).coverage == Approx(1.0).epsilon(1e-12));
+    CHECK(on_open_box(unknown_form, seen).coverage == Approx(1.0).epsilon(1e-12));
+  }
+  SECTION("beams through the top face into the box: the free-seam rule calls a long loop's free fan seen") {
+    // The fan of the top loop lies in voxels a beam passed through: no surface can be there (the mug's cavity).
+    MyVoxelSpace through(0.005, kBox);
+    (void)through.integrate(into_box_scan());
+    REQUIRE(through.probability(Vec3(kSide / 2, kSide / 2, kSide)) < 0.45);
+    nbs::Parameters long_loop;  // the loop's 4 edges count as a long loop (> h_max): the rule applies
+    long_loop.hole_max_edges = 3;
+    CHECK(on_open_box(loops_form, through, long_loop).coverage == Approx(five_sixths).epsilon(1e-12));
+    CHECK(on_open_box(open_form, through, long_loop).coverage == Approx(five_sixths).epsilon(1e-12));  // open on top
+    CHECK(on_open_box(unknown_form, through, long_loop).coverage == Approx(1.0).epsilon(1e-12));
+    CHECK(on_open_box(nbs::SelectableCoverage{}, through, long_loop).coverage == Approx(1.0).epsilon(1e-12));
+    const nbs::SelectableCoverage old_default{{nbs::CoverageEstimate::unseen_open}};
+    CHECK(on_open_box(old_default, through, long_loop).coverage == Approx(five_sixths).epsilon(1e-12));
+    // A short loop (≤ h_max, a hole of Sec. 4.4) stays unseen although its fan is free: the rule is for seams.
+    CHECK(on_open_box(unknown_form, through).coverage == Approx(five_sixths).epsilon(1e-12));
+    // Above min_free_share = 1 nothing is a seam.
+    nbs::UnseenLoopCoverage strict;
+    strict.setting.min_free_share = 1.01;
+    CHECK(on_open_box(strict, through, long_loop).coverage == Approx(five_sixths).epsilon(1e-12));
   }
   SECTION("the top face walled in by surface: only the enclosure test calls it seen") {
     MyVoxelSpace shell(0.005, kBox);
     (void)shell.integrate(shell_scan());
     CHECK(on_open_box(loops_form, shell).coverage == Approx(five_sixths).epsilon(1e-12));
     CHECK(on_open_box(open_form, shell).coverage == Approx(1.0).epsilon(1e-12));
+    CHECK(on_open_box(unknown_form, shell).coverage == Approx(1.0).epsilon(1e-12));
     const nbs::SelectableCoverage by_name{{nbs::CoverageEstimate::unseen_loops}};
     CHECK(on_open_box(by_name, shell).coverage == on_open_box(loops_form, shell).coverage);
   }

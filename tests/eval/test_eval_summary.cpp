@@ -235,7 +235,7 @@ TEST_CASE("run record JSON round trip", "[eval]") {
 TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {
   const nbs::eval::Setup d = nbs::eval::parse_setup("{}", "cfg");  // the planner's defaults
   CHECK(d.models.noise_robust_mesh);
-  CHECK(d.models.coverage_estimate == nbs::CoverageEstimate::unseen_open);
+  CHECK(d.models.coverage_estimate == nbs::CoverageEstimate::unknown_open);
   CHECK(d.planner.keep_exploring);
   const nbs::eval::Setup r = nbs::eval::parse_setup(
       R"({"mesh": "thesis", "coverage_estimate": "thesis", "keep_exploring": false})", "cfg");
@@ -248,7 +248,9 @@ TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK(nbs::eval::setup_json(r)["coverage_estimate"] == "thesis");
   CHECK(nbs::eval::setup_json(r)["keep_exploring"] == false);
   CHECK(nbs::eval::setup_json(d)["mesh"] == "noise_robust");
-  CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "unseen_open");
+  CHECK(nbs::eval::setup_json(d)["coverage_estimate"] == "unknown_open");
+  CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "unseen_open"})", "cfg").models.coverage_estimate ==
+        nbs::CoverageEstimate::unseen_open);
   CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "unseen_loops"})", "cfg").models.coverage_estimate ==
         nbs::CoverageEstimate::unseen_loops);
   CHECK(nbs::eval::setup_json(d)["keep_exploring"] == true);

@@ -227,10 +227,11 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
           "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
   const nbs::SimulationSetting sim = loop_setting(5, 4);
-  // The unseen_loops form of ĉ_m: UnseenLoopCoverage without the enclosure test.
+  // The unseen_loops form of ĉ_m: UnseenLoopCoverage without the enclosure test and the free-seam rule.
   nbs::NbsPlanner<> p1({}, light_lsp(), sphere_box(), setting(1));
   nbs::NbsPlanner<> p2({}, light_lsp(), sphere_box(), setting(2));
   p1.coverage.setting.enclosure = p2.coverage.setting.enclosure = false;
+  p1.coverage.setting.free_space = p2.coverage.setting.free_space = false;
   const auto a = nbs::run_simulation(p1, sphere, sim);
   const auto b = nbs::run_simulation(p2, sphere, sim);
   REQUIRE(a.records.size() == 4);
@@ -268,18 +269,23 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   CHECK(p3.mesh().vertex_count() == mesh.vertex_count());
   CHECK(p3.mesh().settings().project_vertices);
   CHECK(p3.mesh().settings().density_depth_m == p3.mesh().settings().normal_radius_m);
-  // The default ĉ_m (UnseenLoopCoverage with the enclosure test, unseen_open) also calls fan samples walled in by
-  // measured surface seen: recomputed from the final models with the public functions; the policy's seen() agrees
-  // sample for sample; on the sphere standing on its pedestal the enclosure test fires (the contact loop), so ĉ_m
-  // exceeds the unseen_loops value.
+  // The default ĉ_m (UnseenLoopCoverage with the enclosure test and the free-seam rule, unknown_open) also calls
+  // fan samples walled in by measured surface seen (and free ones of long loops mostly in free space): recomputed
+  // from the final models with the public functions; the policy's seen() agrees sample for sample; on the sphere
+  // standing on its pedestal the enclosure test fires (the contact loop), so ĉ_m exceeds the unseen_loops value.
   CHECK(nbs::UnseenLoopCoverage{}.setting.enclosure);
+  CHECK(nbs::UnseenLoopCoverage{}.setting.free_space);
   nbs::NbsPlanner<> p4({}, light_lsp(), sphere_box(), setting(1));
   (void)nbs::run_simulation(p4, sphere, sim);
   const auto loops4 = nbs::find_all_loops(p4.mesh(), params);
   const auto seen4 = [&](const Vec3& x) { return p4.space().probability(x) > params.occupied_threshold; };
   const double reach = (sphere_box().max - sphere_box().min).norm();
   const auto open4 = [&](const Vec3& x) { return seen4(x) || nbs::enclosed_by_surface(p4.space(), x, reach); };
-  const double c_open = std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, open4), 0.0, 1.0);
+  const nbs::UnseenLoopCoverage::Setting def;
+  const auto free4 = [&](const Vec3& x) { return p4.space().probability(x) < def.free_below; };
+  const double c_open = std::clamp(
+      nbs::estimated_coverage_unseen_free(p4.mesh(), loops4, open4, free4, {params.hole_max_edges, def.min_free_share}),
+      0.0, 1.0);
   CHECK(p4.estimated_coverage() == c_open);
   const auto planner_seen = p4.coverage.seen(p4.space(), p4.params(), p4.unknown_area());
   std::size_t enclosed = 0, mismatched = 0;
@@ -291,12 +297,15 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   CHECK(mismatched == 0);
   CHECK(enclosed > 0);
   CHECK(c_open > std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, seen4), 0.0, 1.0));
+  CHECK(c_open >= std::clamp(nbs::estimated_coverage_unseen(p4.mesh(), loops4, open4), 0.0, 1.0));
   // SelectableCoverage (the runtime facade's) gives the same values as the policy it names.
   const nbs::CoverageInput<nbs::NoiseRobustStreamingMesh, nbs::ProbabilisticVoxelSpace<>> in{
       p4.mesh(), p4.space(), p4.params(), p4.unknown_area()};
   CHECK(nbs::SelectableCoverage{}.estimate(in).coverage == c_open);
   CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::unseen_loops}}.estimate(in).coverage ==
-        nbs::UnseenLoopCoverage{{false}}.estimate(in).coverage);
+        nbs::UnseenLoopCoverage{{.enclosure = false, .free_space = false}}.estimate(in).coverage);
+  CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::unseen_open}}.estimate(in).coverage ==
+        nbs::UnseenLoopCoverage{{.enclosure = true, .free_space = false}}.estimate(in).coverage);
   CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::thesis}}.estimate(in).coverage ==
         std::clamp(nbs::estimated_coverage(p4.mesh(), nbs::find_holes(p4.mesh(), params)), 0.0, 1.0));
 }

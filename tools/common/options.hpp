@@ -187,7 +187,7 @@ inline CLI::Option* add_threads(CLI::App& app, unsigned& threads) {
 inline CLI::Option* add_thesis_mesh(CLI::App& app, bool& thesis_mesh) {
   return app.add_flag("--thesis-mesh", thesis_mesh,
                       "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust "
-                      "mesh and the unseen_open estimate");
+                      "mesh and the unknown_open estimate");
 }
 
 /// The object options of the simulating tools (nbs_model, nbs_diagnose): `--mesh --up --size --sensor`, into the

@@ -48,8 +48,8 @@ template <VoxelSpace Space>
 }
 
 /// The `seen(x)` predicate of estimated_coverage_unseen as the planner uses it: x lies in a voxel with
-/// p > `occupied_threshold` or, with `with_enclosure` (CoverageEstimate::unseen_open), it is enclosed_by_surface
-/// with rays of `reach_m`. Holds a reference to `space`.
+/// p > `occupied_threshold` or, with `with_enclosure` (CoverageEstimate::unseen_open, unknown_open), it is
+/// enclosed_by_surface with rays of `reach_m`. Holds a reference to `space`.
 template <class Space>
 [[nodiscard]] auto surface_seen(const Space& space, double occupied_threshold, double reach_m, bool with_enclosure) {
   return [&space, occupied_threshold, reach_m, with_enclosure](const Vec3& x) {

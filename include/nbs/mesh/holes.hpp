@@ -152,4 +152,37 @@ template <EdgeMesh M, class Seen>
                                 [&](const Hole& h) { return h.area_m2 * (1.0 - fan_seen_share(mesh, h, seen)); });
 }
 
+/// Where a long loop's fan lies in empty space (issue 18): what counts as a seam rather than a hole.
+struct FreeSeamRule {
+  int min_edges = 200;         ///< only loops with more edges than this (h_max: shorter loops are holes, Sec. 4.4).
+  double min_free_share = 0.5; ///< ... whose fan samples are at least this share `free(x)` (and not seen).
+};
+
+/// Unseen share of loop h's fan samples: 1 − (seen + free) / n if h has more than rule.min_edges edges and at least
+/// rule.min_free_share of its samples are free and not seen (a seam whose fan crosses measured empty space: no
+/// surface can lie there), else 1 − seen / n as in estimated_coverage_unseen. `seen(x)`, `free(x)`: world point x
+/// (m) lies in measured surface (or is walled in by it) / in measured free space. 0 for a loop without vertices.
+template <EdgeMesh M, class Seen, class Free>
+[[nodiscard]] double fan_unseen_share(const M& mesh, const Hole& h, Seen&& seen, Free&& free, const FreeSeamRule& rule) {
+  if (h.vertices.empty()) return 0.0;
+  std::size_t n = 0, hits = 0, empty = 0;
+  for_each_fan_sample(mesh, h, [&](const Vec3& x) {
+    ++n;
+    if (seen(x)) ++hits;
+    else if (free(x)) ++empty;
+  });
+  const bool seam = static_cast<long long>(h.vertices.size()) > rule.min_edges &&
+                    static_cast<double>(empty) >= rule.min_free_share * static_cast<double>(n);
+  return static_cast<double>(n - hits - (seam ? empty : 0)) / static_cast<double>(n);
+}
+
+/// estimated_coverage_unseen with the free-seam rule: A_empty = Σ A_hole · fan_unseen_share(h, seen, free, rule)
+/// over `loops` (every closed border loop). 0 for a mesh without triangles.
+template <EdgeMesh M, class Seen, class Free>
+[[nodiscard]] double estimated_coverage_unseen_free(const M& mesh, const std::vector<Hole>& loops, Seen&& seen,
+                                                    Free&& free, const FreeSeamRule& rule) {
+  return detail::coverage_ratio(
+      mesh, loops, [&](const Hole& h) { return h.area_m2 * fan_unseen_share(mesh, h, seen, free, rule); });
+}
+
 }  // namespace nbs

@@ -100,7 +100,7 @@ struct RuntimeModels {
   bool noise_robust_mesh = true;
   /// The ĉ_m form (SelectableCoverage; the unseen forms are made for the noise-robust mesh, and with the thesis
   /// form the noise-robust mesh never reaches ĉ_m 0.8 on the bunny: one layer leaves few small loops).
-  CoverageEstimate coverage_estimate = CoverageEstimate::unseen_open;
+  CoverageEstimate coverage_estimate = CoverageEstimate::unknown_open;
   /// The thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4) together: the unseen forms are meaningless on the layered mesh.
   [[nodiscard]] static RuntimeModels thesis() { return {false, CoverageEstimate::thesis}; }
   /// The registration step before each scan is integrated (SelectableRegistration): none (exact poses) or the
