@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SEE (Surface Edge Explorer) as a peer generator: the density classification against a brute-force oracle and an
-// analytic plane patch, the view geometry, the generator on a scanned strip (views at d_s above the plane, sweeping
-// outward across the strip's edge), determinism, and bad parameters.
+// analytic plane patch, the thinning against its greedy rule, the view geometry, and bad parameters (the generator
+// on a scanned strip is in test_generators.cpp, next to the other generators' plane scan).
 #include "nbs_catch.hpp"
 
 #include <algorithm>
@@ -9,10 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "../mesh/mesh_test_util.hpp"
 #include "nbs/candidates/surface_edge_explorer.hpp"
 #include "nbs/core/detail/random.hpp"
-#include "nbs/space/probabilistic_voxel_space.hpp"
 
 using nbs::DensityClass;
 using nbs::Vec3;
@@ -49,30 +47,6 @@ std::vector<Vec3> grid_patch() {
     for (int j = 0; j <= 20; ++j) pts.emplace_back(0.001 * i, 0.001 * j, 0.0);
   return pts;
 }
-
-using Space = nbs::ProbabilisticVoxelSpace<>;
-using Context = nbs::PlanningContext<nbs::StreamingMesh, Space>;
-
-/// A 6 cm strip of a plane scanned from 0.15 m above (the conformance suite's scene without the hole).
-struct ScannedStrip {
-  nbs::Parameters params;
-  nbs::StreamingMesh mesh{params};
-  Space space{0.005};
-  ScannedStrip() {
-    nbs::test::PlanePatch plane(0.2, 0.2);
-    nbs::test::StripeSensor s;
-    s.rays = 160;
-    s.step_m = 0.0005;
-    const nbs::Scan scan = nbs::test::scan_path(plane, nbs::test::down_at(0, 0.03, 0.15), 0.06, s, 5);
-    mesh.integrate(scan);
-    (void)space.integrate(scan);
-  }
-  [[nodiscard]] Context context(unsigned threads = 1) const {
-    return Context{mesh, space, params, mesh.current_sensor(), 0.06,
-                   {nbs::SensorGeometry::Kind::line, {0.15, 0.45}, 0.5, 0.0},
-                   nbs::Aabb{Vec3(-0.1, -0.1, -0.01), Vec3(0.1, 0.1, 0.05)}, 0.0, threads};
-  }
-};
 
 }  // namespace
 
@@ -149,44 +123,6 @@ TEST_CASE("SEE view: at d_s along the normal, sweeping across the frontier edge,
   const nbs::ScanCandidate area = nbs::surface_edge_view(p, n, out, d_s, 0.0, 0);
   CHECK(area.path.length() == 0.0);
   CHECK((area.path.start().position() - (p + d_s * n)).norm() < 1e-12);
-}
-
-TEST_CASE("SEE generator: views above a scanned strip look down and sweep outward; deterministic", "[see]") {
-  const ScannedStrip strip;
-  REQUIRE(strip.mesh.face_count() > 100);
-  const nbs::SurfaceEdgeExplorer see;
-  const Context ctx = strip.context();
-  const nbs::CandidateSet set = see.generate(ctx);
-  REQUIRE(set.status == nbs::CandidateStatus::ok);
-  REQUIRE(set.candidates.size() >= 4);  // a ≈ 6 × 7.6 cm strip: frontier all around, views 1 cm apart
-  Vec3 centre = Vec3::Zero();
-  for (nbs::VertexId v = 0; v < strip.mesh.vertex_count(); ++v) centre += strip.mesh.position(v);
-  centre /= double(strip.mesh.vertex_count());
-  const double d_s = ctx.standoff(), l_b = ctx.sensor.baseline_m(d_s);
-  for (const nbs::ScanCandidate& c : set.candidates) {
-    const nbs::Pose& t = c.path.start().pose();
-    CHECK(t.linear().col(2).z() < -0.95);                         // looking down at the plane z = 0
-    CHECK(std::abs(c.aim.point.z()) < 1e-3);                      // the frontier point lies on it
-    CHECK(c.path.length() == Approx(l_b).epsilon(1e-9));           // l_b(d_s) by default
-    Vec3 outward = c.aim.point - centre;
-    outward.z() = 0.0;
-    CHECK(t.linear().col(1).dot(outward.normalized()) > 0.3);     // the sweep leaves the observed strip
-    CHECK(outward.norm() > 0.02);                                 // frontier points are near the strip's border
-  }
-  // Deterministic, and the same for any thread count.
-  const nbs::CandidateSet twice = see.generate(strip.context(2));
-  REQUIRE(twice.candidates.size() == set.candidates.size());
-  for (std::size_t i = 0; i < set.candidates.size(); ++i) {
-    CHECK(twice.candidates[i].path.start().pose().matrix() == set.candidates[i].path.start().pose().matrix());
-    CHECK(twice.candidates[i].path.end_position() == set.candidates[i].path.end_position());
-  }
-  // The view that repeats the last scan's start pose is not proposed again.
-  nbs::SurfaceEdgeSetting s;
-  s.repeat_distance_m = 1.0;
-  s.repeat_angle_rad = M_PI;
-  Context again = ctx;
-  again.last_sensor = set.candidates.front().path.start().pose();
-  CHECK(nbs::SurfaceEdgeExplorer(s).generate(again).status == nbs::CandidateStatus::all_rejected);
 }
 
 TEST_CASE("SEE: bad parameters throw naming the value", "[see]") {
