@@ -101,7 +101,8 @@ LoopTimes closed_loop(const nbs::embree::SimulatedScanner& scanner, const nbs::P
     if (study && planner.candidate_set().size() > 1) {
       std::vector<nbs::LinearScanPath> paths;
       for (const nbs::ScanCandidate& c : planner.candidate_set()) paths.push_back(c.path);
-      const nbs::UtilityContext uctx{planner.scans(), 1, &planner.params()};
+      nbs::UtilityContext uctx = planner.utility_context();
+      uctx.seed = 1;
       const auto score = [&](const nbs::CoarseToFine& c) {
         nbs::EvaluationSetting es = planner.evaluation_setting();
         es.refine = c;

@@ -258,7 +258,8 @@ inline constexpr std::string_view kUsage =
     "the output of the unsharded run. 'c-obs' recomputes the observability ceiling c_obs of finished outputs with\n"
     "the scanner's rule (any incidence) and rewrites their records and summaries (run from where they were made).\n"
     "method codes: selection R(andom) I(G) Q(uality) C(IG+Quality) x search S(phere) B(oundary Search)\n"
-    "  H(BS + Hole Rescan); peer metrics with BS+HR: OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H; surface gain (ours) SG_H.\n  Valid codes:\n"
+    "  H(BS + Hole Rescan); peer metrics with BS+HR: OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H; surface gain (ours) SG_H;\n"
+    "  the peer planner SEE (Surface Edge Explorer: density frontier, nearest view). Valid codes:\n"
     "  ";
 
 [[nodiscard]] inline std::string usage() {

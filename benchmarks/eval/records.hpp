@@ -255,6 +255,7 @@ inline void sort_records(std::vector<RunRecord>& v) {
 
 /// Long names of Tab. 4.5: selection ("Random", "IG", "Quality", "IG/Quality", else the peer code) and search.
 [[nodiscard]] inline std::string selection_name(const Method& m) {
+  if (m.search == SearchSpace::surface_edge) return "nearest view";
   switch (m.selection) {
     case Selection::random: return "Random";
     case Selection::information_gain: return "IG";
@@ -268,6 +269,7 @@ inline void sort_records(std::vector<RunRecord>& v) {
     case SearchSpace::sphere: return "Sphere";
     case SearchSpace::boundary: return "BS";
     case SearchSpace::boundary_hole: return "BS/HR";
+    case SearchSpace::surface_edge: return "SEE frontier";
   }
   return "?";
 }

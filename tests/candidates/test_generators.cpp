@@ -197,3 +197,44 @@ TEST_CASE("planarity of normals (Eqs. 4.19-4.21 as the text reads them)", "[gene
   CHECK_FALSE(nbs::detail::normals_planar(cylinder, 0.09));
   CHECK_FALSE(nbs::detail::normals_planar({}, 0.09));
 }
+
+TEST_CASE("SEE generator: views above a scanned strip look down and sweep outward; deterministic", "[generators][see]") {
+  const PlaneScan strip;
+  REQUIRE(strip.mesh.face_count() > 100);
+  const nbs::SurfaceEdgeExplorer see;
+  Context ctx = strip.context();
+  ctx.unknown_area = nbs::Aabb{Vec3(-0.1, -0.1, -0.01), Vec3(0.1, 0.1, 0.05)};  // support plane 1 cm below
+  const nbs::CandidateSet set = see.generate(ctx);
+  REQUIRE(set.status == nbs::CandidateStatus::ok);
+  REQUIRE(set.candidates.size() >= 4);  // a ≈ 6 × 7.6 cm strip: frontier all around, views 1 cm apart
+  Vec3 centre = Vec3::Zero();
+  for (nbs::VertexId v = 0; v < strip.mesh.vertex_count(); ++v) centre += strip.mesh.position(v);
+  centre /= double(strip.mesh.vertex_count());
+  const double d_s = ctx.standoff(), l_b = ctx.sensor.baseline_m(d_s);
+  for (const nbs::ScanCandidate& c : set.candidates) {
+    const nbs::Pose& t = c.path.start().pose();
+    CHECK(t.linear().col(2).z() < -0.95);                         // looking down at the plane z = 0
+    CHECK(std::abs(c.aim.point.z()) < 1e-3);                      // the frontier point lies on it
+    CHECK(c.path.length() == Approx(l_b).epsilon(1e-9));           // l_b(d_s) by default
+    Vec3 outward = c.aim.point - centre;
+    outward.z() = 0.0;
+    CHECK(t.linear().col(1).dot(outward.normalized()) > 0.3);     // the sweep leaves the observed strip
+    CHECK(outward.norm() > 0.02);                                 // frontier points are near the strip's border
+  }
+  // Deterministic, and the same for any thread count.
+  Context two = ctx;
+  two.threads = 2;
+  const nbs::CandidateSet twice = see.generate(two);
+  REQUIRE(twice.candidates.size() == set.candidates.size());
+  for (std::size_t i = 0; i < set.candidates.size(); ++i) {
+    CHECK(twice.candidates[i].path.start().pose().matrix() == set.candidates[i].path.start().pose().matrix());
+    CHECK(twice.candidates[i].path.end_position() == set.candidates[i].path.end_position());
+  }
+  // The view that repeats the last scan's start pose is not proposed again.
+  nbs::SurfaceEdgeSetting s;
+  s.repeat_distance_m = 1.0;
+  s.repeat_angle_rad = M_PI;
+  Context again = ctx;
+  again.last_sensor = set.candidates.front().path.start().pose();
+  CHECK(nbs::SurfaceEdgeExplorer(s).generate(again).status == nbs::CandidateStatus::all_rejected);
+}

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// CandidateGenerator conformance: BoundarySearch, HoleRescan, SphereSearch and a minimal user-written generator, on
+// CandidateGenerator conformance: BoundarySearch, HoleRescan, SphereSearch, SurfaceEdgeExplorer (SEE) and a minimal user-written generator, on
 // a scanned plane with a hole (line and area sensor), an empty mesh and an empty unknown area.
 #include "candidate_generator_conformance.hpp"
 
@@ -75,9 +75,11 @@ TEST_CASE("CandidateGenerator conformance: every model and a user-written one", 
   CHECK(check_candidate_generator_conformance(nbs::HoleRescan{}, ctxs) > 0);
   CHECK(check_candidate_generator_conformance(nbs::SphereSearch{}, ctxs, false) > 0);  // see the next test case
   CHECK(check_candidate_generator_conformance(LookDown{}, ctxs) > 0);
+  CHECK(check_candidate_generator_conformance(nbs::SurfaceEdgeExplorer{}, ctxs) > 0);
   // The empty cases come with their status.
   CHECK(nbs::BoundarySearch{}.generate(ctxs[2]).status == nbs::CandidateStatus::empty_mesh);
   CHECK(nbs::HoleRescan{}.generate(ctxs[2]).status == nbs::CandidateStatus::empty_mesh);
+  CHECK(nbs::SurfaceEdgeExplorer{}.generate(ctxs[2]).status == nbs::CandidateStatus::empty_mesh);
   CHECK(nbs::SphereSearch{}.generate(ctxs[1]).status == nbs::CandidateStatus::empty_unknown_area);
   CHECK(LookDown{}.generate(ctxs[1]).status == nbs::CandidateStatus::empty_unknown_area);
 }

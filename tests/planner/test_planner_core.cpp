@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <set>
 #include <string>
+#include <variant>
 
 #include "nbs/mesh/invariants.hpp"
 #include "nbs/planner/nbs_planner.hpp"
@@ -182,13 +183,18 @@ TEST_CASE("runtime facade: every method code parses and round-trips; unknown cod
     codes.insert(code);
   }
   CHECK(codes.size() == nbs::kAllMethods.size());
-  CHECK(codes.size() == 20);
+  CHECK(codes.size() == 21);
   for (const char* c : {"R_S", "R_B", "R_H", "I_S", "I_B", "I_H", "Q_S", "Q_B", "Q_H", "C_S", "C_B", "C_H", "OA_H",
-                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H", "SG_H"})
+                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H", "SG_H", "SEE"})
     CHECK(codes.count(c) == 1);
   CHECK(nbs::parse_method(" c_h ") == nbs::Method{nbs::Selection::ig_quality, nbs::SearchSpace::boundary_hole});
   CHECK(nbs::parse_method("r_s") == nbs::Method{nbs::Selection::random, nbs::SearchSpace::sphere});
-  for (const char* bad : {"", "C", "C_X", "X_H", "OA_S", "CH", "C_H_"}) {
+  CHECK(nbs::parse_method(" see") == nbs::kSeeMethod);
+  // SEE has one selection (its own): another one with its search is not a precompiled method.
+  CHECK_THROWS_AS(nbs::RuntimePlanner(nbs::Method{nbs::Selection::random, nbs::SearchSpace::surface_edge}, {},
+                                      light_lsp(), sphere_box()),
+                  nbs::InvalidArgument);
+  for (const char* bad : {"", "C", "C_X", "X_H", "OA_S", "CH", "C_H_", "SEE_H", "C_SEE"}) {
     CHECK_THROWS_AS(nbs::parse_method(bad), nbs::InvalidArgument);
     try {
       (void)nbs::parse_method(bad);
@@ -407,4 +413,34 @@ TEST_CASE("loop: the quality term sees surface after one scan; no planned path e
     CHECK(c.path.start().position().z() >= 0.0);
     CHECK(c.path.end_position().z() >= 0.0);
   }
+}
+
+TEST_CASE("loop: SEE replaces its candidate set each step and flies to the nearest view", "[planner][loop][see]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::RuntimePlanner rp("SEE", {}, light_lsp(), sphere_box(), setting(1));
+  auto& see = std::get<nbs::RuntimePlannerOf<nbs::SearchSpace::surface_edge>>(rp.variant());
+  // light_lsp samples 2 mm × 0.8 mm: thinning spacing and r scaled by 1.5 from the dlr_lsp defaults.
+  nbs::SurfaceEdgeSetting s;
+  s.spacing_m = 0.003;
+  s.radius_m = 0.009;
+  see.search.explore = nbs::SurfaceEdgeExplorer(s);
+  std::vector<Vec3> ends;  // where the sensor rested after each scan
+  int checked = 0;
+  const auto result = nbs::run_simulation(rp, sphere, loop_setting(3, 5), [&](const nbs::ScanRecord& r) {
+    if (r.candidate) {
+      CHECK(r.candidate->source == nbs::CandidateSource::surface_edge);
+      // Oracle: S now holds the rest of this step's SEE views; none is nearer to where the sensor rested.
+      const Vec3 from = ends.back();
+      const double chosen = (r.path.start().position() - from).norm();
+      for (const nbs::ScanCandidate& c : see.candidate_set()) {
+        CHECK(c.source == nbs::CandidateSource::surface_edge);
+        CHECK(chosen <= (c.path.start().position() - from).norm());
+      }
+      ++checked;
+    }
+    ends.push_back(r.path.end_position());
+    CHECK((see.utility_context().sensor_position - ends.back()).norm() < 1e-9);
+  });
+  CHECK(checked >= 2);
+  CHECK(result.records.size() >= 3);
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <concepts>
 #include <numbers>
+#include <span>
 
 #include "nbs/core/parameters.hpp"
 #include "nbs/mesh/mesh_concept.hpp"
@@ -65,6 +66,9 @@ struct PlanningContext {
   /// Threads a generator may use (≥ 1; Boundary Search: topology beside boundary detection, then the boundaries in
   /// parallel). Generators return the same candidates for any count.
   unsigned threads = 1;
+  /// T_WS of the first profile of every scan integrated so far, oldest first (NbsPlanner fills it; may be empty).
+  /// SEE uses it not to propose a view that was flown already.
+  std::span<const Pose> scan_starts{};
 
   /// d_s in metres.
   [[nodiscard]] double standoff() const { return standoff_m > 0.0 ? standoff_m : sensor.mid_range_m(); }

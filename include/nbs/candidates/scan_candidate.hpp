@@ -17,6 +17,7 @@ enum class CandidateSource : std::uint8_t {
   boundary_search,  ///< Sec. 4.2–4.3
   hole_rescan,      ///< Sec. 4.4, Alg. 2
   sphere,           ///< sphere baseline, Sec. 4.7.2
+  surface_edge,     ///< SEE peer planner (surface_edge_explorer.hpp)
 };
 
 /// A surface point the candidate is planned to measure, world frame; `normal` is unit and points to the sensor side.
@@ -48,6 +49,7 @@ enum class CandidateStatus : std::uint8_t {
   no_holes,         ///< no hole with h_min ≤ |E_H| ≤ h_max
   all_rejected,     ///< boundaries/holes exist but none gave a candidate (fit failed, every direction occluded)
   empty_unknown_area,  ///< sphere baseline: the bounding box of the unknown area is empty
+  no_frontier,      ///< SEE: no measured point is a frontier point
 };
 
 [[nodiscard]] constexpr std::string_view to_string(CandidateStatus s) {
@@ -58,6 +60,7 @@ enum class CandidateStatus : std::uint8_t {
     case CandidateStatus::no_holes: return "no hole of interest (h_min..h_max edges)";
     case CandidateStatus::all_rejected: return "every boundary/hole was rejected";
     case CandidateStatus::empty_unknown_area: return "the bounding box of the unknown area is empty";
+    case CandidateStatus::no_frontier: return "no frontier point (SEE)";
   }
   return "unknown status";
 }

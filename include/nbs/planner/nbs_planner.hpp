@@ -191,6 +191,7 @@ public:
       r.t_features_s = lap();
       if constexpr (SpaceTrackingCollisionChecker<Collision, Space>) collision.update(*space_);
       last_sensor_ = scan.profile_poses.front();
+      scan_starts_.push_back(last_sensor_);
       last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
       const CoverageResult cov = coverage.estimate(CoverageInput<Mesh, Space>{*mesh_, *space_, params_, box_});
       r.holes = cov.holes;
@@ -246,6 +247,7 @@ public:
     if (mode_ == SearchMode::BoundarySearch || setting_.keep_exploring) {
       using Explore = typename Search::ExploreGenerator;
       if (!FixedCandidateSpace<Explore> || !fixed_space_generated_) {
+        if constexpr (ReplacesCandidateSet<Explore>) pool_.clear();
         generate_into_pool(search.explore, st);
         fixed_space_generated_ = true;
       }
@@ -325,10 +327,11 @@ public:
   [[nodiscard]] const Aabb& unknown_area() const { return box_; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
   /// What next_best_scan() scores S with: the UtilityContext of this step (n_s, the per-step seed of Random,
-  /// parameters) and the EvaluationSetting (threads, sampling, coarse-to-fine, the surface features). Use both to
+  /// parameters, where the sensor rests: the end of the last scan path) and the EvaluationSetting (threads, sampling, coarse-to-fine, the surface features). Use both to
   /// score other paths exactly as the planner would.
   [[nodiscard]] UtilityContext utility_context() const {
-    return {scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))), &params_};
+    return {scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))), &params_,
+            last_sensor_.translation() + last_path_length_ * last_sensor_.linear().col(1)};
   }
   [[nodiscard]] EvaluationSetting evaluation_setting() const {
     EvaluationSetting eval{setting_.threads, setting_.sampling, setting_.refine};
@@ -349,8 +352,9 @@ private:
     return s;
   }
   [[nodiscard]] PlanningContext<Mesh, Space> context() const {
-    return {*mesh_, *space_, params_, last_sensor_, last_path_length_, geometry_, box_, setting_.standoff_m,
-            setting_.threads};
+    return {*mesh_,        *space_,           params_,           last_sensor_,
+            last_path_length_, geometry_,     box_,              setting_.standoff_m,
+            setting_.threads,  std::span<const Pose>(scan_starts_)};
   }
   struct MeshFactory {};  // tag of the constructor every public one delegates to
   template <class MakeMesh>
@@ -491,6 +495,7 @@ private:
   bool fixed_space_generated_ = false;
   std::vector<ScanCandidate> pool_;
   Pose last_sensor_ = Pose::Identity();
+  std::vector<Pose> scan_starts_;  // PlanningContext::scan_starts
   double last_path_length_ = 0.0;
   int scans_ = 0;
   double coverage_ = 0.0;

@@ -12,6 +12,7 @@
 /// | Q_S, Q_B, Q_H | Quality (ω = 1) × ... |
 /// | C_S, C_B, C_H | IG/Quality (ω(n_s), Eq. 4.31) × ... |
 /// | OA_H, UV_H, RSV_H, RSE_H, PC_H, AE_H, VG_H | peer metrics (Delmerico et al. 2018; VG: Vasquez-Gomez) × BS+HR |
+/// | SEE | the peer planner Surface Edge Explorer (Border & Gammell): its density frontier (SurfaceEdgeExplorer) and its nearest-view selection (NearestViewUtility) |
 
 #include <array>
 #include <cctype>
@@ -26,30 +27,35 @@
 
 namespace nbs {
 
-/// Search space of Sec. 4.7 (second letter of a method code).
-enum class SearchSpace : std::uint8_t { sphere, boundary, boundary_hole };
+/// Search space of Sec. 4.7 (second letter of a method code), and SEE's frontier (the whole code SEE).
+enum class SearchSpace : std::uint8_t { sphere, boundary, boundary_hole, surface_edge };
 
-/// `S`, `B` or `H`.
+/// `S`, `B`, `H` or `SEE`.
 [[nodiscard]] constexpr std::string_view format_search(SearchSpace s) {
   switch (s) {
     case SearchSpace::sphere: return "S";
     case SearchSpace::boundary: return "B";
     case SearchSpace::boundary_hole: return "H";
+    case SearchSpace::surface_edge: return "SEE";
   }
   return "?";
 }
 
-/// A planning method: selection criterion × search space.
+/// A planning method: selection criterion × search space. SEE (search surface_edge) selects by its own rule
+/// (NearestViewUtility); its `selection` is unused and stays at the default.
 struct Method {
   Selection selection = Selection::ig_quality;
   SearchSpace search = SearchSpace::boundary_hole;
   friend constexpr bool operator==(const Method&, const Method&) = default;
 };
 
-/// The 12 thesis methods (R, I, Q, C × S, B, H) followed by the 7 peer metrics and surface gain SG (ours), with
-/// BS+HR.
-inline constexpr std::array<Method, 20> kAllMethods = [] {
-  std::array<Method, 20> m{};
+/// The SEE peer planner.
+inline constexpr Method kSeeMethod{Selection::ig_quality, SearchSpace::surface_edge};
+
+/// The 12 thesis methods (R, I, Q, C × S, B, H), the 7 peer metrics and surface gain SG (ours) with BS+HR, then the
+/// peer planner SEE.
+inline constexpr std::array<Method, 21> kAllMethods = [] {
+  std::array<Method, 21> m{};
   std::size_t i = 0;
   for (Selection s : {Selection::random, Selection::information_gain, Selection::quality, Selection::ig_quality})
     for (SearchSpace g : {SearchSpace::sphere, SearchSpace::boundary, SearchSpace::boundary_hole}) m[i++] = {s, g};
@@ -57,11 +63,13 @@ inline constexpr std::array<Method, 20> kAllMethods = [] {
                       Selection::rear_side_entropy, Selection::proximity_count, Selection::average_entropy,
                       Selection::vasquez_gomez, Selection::surface_gain})
     m[i++] = {s, SearchSpace::boundary_hole};
+  m[i++] = kSeeMethod;
   return m;
 }();
 
-/// The method code, e.g. "C_H" (Fig. 4.19) or "OA_H".
+/// The method code, e.g. "C_H" (Fig. 4.19), "OA_H" or "SEE".
 [[nodiscard]] inline std::string format_method(const Method& m) {
+  if (m.search == SearchSpace::surface_edge) return std::string(format_search(m.search));
   return std::string(format_selection(m.selection)) + "_" + std::string(format_search(m.search));
 }
 
@@ -84,10 +92,15 @@ inline constexpr std::array<Method, 20> kAllMethods = [] {
 
 /// The planner types behind the facade (each instantiated once, here).
 template <SearchSpace S>
-using RuntimeSearch = std::conditional_t<S == SearchSpace::sphere, SphereSpace,
-                                         std::conditional_t<S == SearchSpace::boundary, BoundarySpace, BoundaryHoleSpace>>;
+using RuntimeSearch = std::conditional_t<
+    S == SearchSpace::sphere, SphereSpace,
+    std::conditional_t<S == SearchSpace::boundary, BoundarySpace,
+                       std::conditional_t<S == SearchSpace::surface_edge, SurfaceEdgeSpace, BoundaryHoleSpace>>>;
+/// SEE's own selection for its search, the run-time selection otherwise.
 template <SearchSpace S>
-using RuntimePlannerOf = NbsPlanner<SelectionUtility, RuntimeSearch<S>, LaserStripeProfiler, NoCollisions,
+using RuntimeUtility = std::conditional_t<S == SearchSpace::surface_edge, NearestViewUtility, SelectionUtility>;
+template <SearchSpace S>
+using RuntimePlannerOf = NbsPlanner<RuntimeUtility<S>, RuntimeSearch<S>, LaserStripeProfiler, NoCollisions,
                                     DefaultTermination, ProbabilisticVoxelSpace<>, StreamingMesh, SelectableCoverage,
                                     SelectableRegistration, RobotReach<AnyRobot>>;
 
@@ -121,7 +134,7 @@ struct RuntimeModels {
 class RuntimePlanner {
 public:
   using Variant = std::variant<RuntimePlannerOf<SearchSpace::sphere>, RuntimePlannerOf<SearchSpace::boundary>,
-                               RuntimePlannerOf<SearchSpace::boundary_hole>>;
+                               RuntimePlannerOf<SearchSpace::boundary_hole>, RuntimePlannerOf<SearchSpace::surface_edge>>;
 
   /// Throws InvalidArgument for invalid parameters, sensor, box or setting.
   RuntimePlanner(const Method& method, const Parameters& params, const LaserStripeProfiler& sensor,
@@ -190,7 +203,7 @@ private:
     Variant v(std::in_place_type<RuntimePlannerOf<S>>, params, sensor, box, setting,
               models.mesh_settings(params, box));
     auto& p = std::get<RuntimePlannerOf<S>>(v);
-    p.utility.setting.selection = sel;
+    if constexpr (std::same_as<RuntimeUtility<S>, SelectionUtility>) p.utility.setting.selection = sel;
     p.coverage.setting.form = models.coverage_estimate;
     p.registration = SelectableRegistration{models.registration, models.icp};
     return v;
@@ -204,6 +217,8 @@ private:
       case SearchSpace::sphere: return build<SearchSpace::sphere>(m.selection, params, sensor, box, setting, models);
       case SearchSpace::boundary:
         return build<SearchSpace::boundary>(m.selection, params, sensor, box, setting, models);
+      case SearchSpace::surface_edge:
+        return build<SearchSpace::surface_edge>(m.selection, params, sensor, box, setting, models);
       case SearchSpace::boundary_hole: break;
     }
     return build<SearchSpace::boundary_hole>(m.selection, params, sensor, box, setting, models);

@@ -21,6 +21,13 @@ concept FixedCandidateSpace = requires {
   requires G::kFixedCandidateSpace;
 };
 
+/// A generator whose candidates replace the candidate set S each step instead of joining it (SEE, which re-derives
+/// its frontier from all measurements) declares `static constexpr bool kReplacesCandidateSet = true;`.
+template <class G>
+concept ReplacesCandidateSet = requires {
+  requires G::kReplacesCandidateSet;
+};
+
 /// Candidate search: `explore` in the first mode, `rescan` after the switch of Sec. 4.6 (unless `Rescan` is
 /// NoRescan). Each generator is a public member with its own `Setting` (e.g. `search.explore.setting()`).
 /// Pool rule (Sec. 4.1): candidates of `explore` are added to the candidate set S after every scan (fixed spaces:
@@ -41,6 +48,8 @@ struct CandidateSearch {
 using SphereSpace = CandidateSearch<SphereSearch, NoRescan>;
 using BoundarySpace = CandidateSearch<BoundarySearch, NoRescan>;
 using BoundaryHoleSpace = CandidateSearch<BoundarySearch, HoleRescan>;
+/// The SEE peer planner's search (method code SEE): the density frontier, no second mode.
+using SurfaceEdgeSpace = CandidateSearch<SurfaceEdgeExplorer, NoRescan>;
 
 /// G is a CandidateSearch whose generators model CandidateGenerator for Mesh and Space.
 template <class G, class Mesh, class Space>

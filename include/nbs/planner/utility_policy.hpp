@@ -5,6 +5,8 @@
 /// Built-in policies: the four thesis selections and the peer metrics (`FixedSelection<S>`, `SelectionUtility`
 /// chosen at run time) and `TermUtility<Term>` for a user-defined UtilityTerm.
 
+#include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <type_traits>
@@ -18,6 +20,9 @@ struct UtilityContext {
   int scans = 0;                 ///< n_s: scans integrated so far (ω(n_s), Eq. 4.31)
   std::uint64_t seed = 0;        ///< per-step seed (planner seed mixed with n_s), for Random
   const Parameters* params = nullptr;  ///< λ, n_q, incidence cut-off (never null when called by NbsPlanner)
+  /// Where the sensor rests now (world, metres): the end of the last scan path (NbsPlanner); the origin before the
+  /// first scan. NearestViewUtility measures from here.
+  Vec3 sensor_position = Vec3::Zero();
 };
 
 /// U scores candidates: `u.evaluate(paths, sensor, space, ctx, eval)` returns one value per path and the best
@@ -79,6 +84,34 @@ using RandomUtility = FixedSelection<Selection::random>;              ///< R: se
 using InformationGainUtility = FixedSelection<Selection::information_gain>;  ///< I: ω = 0 in Eq. (4.30)
 using QualityUtility = FixedSelection<Selection::quality>;            ///< Q: ω = 1
 using IgQualityUtility = FixedSelection<Selection::ig_quality>;       ///< C: ω(n_s), Eqs. (4.30)–(4.31)
+
+/// SEE's selection (Border & Gammell; the peer method SEE): the view nearest to the sensor's current position.
+/// Value of path i = −‖start_i − ctx.sensor_position‖ (metres; the sensor flies to the path's start), so the
+/// evaluation's "largest value, ties to the lower index" picks the nearest, ties to the generator's order. No rays
+/// are cast (`rays`, `voxels` are 0). Deterministic for any thread count.
+struct NearestViewUtility {
+  struct Setting {};
+  Setting setting{};
+
+  template <class Space, class Sensor>
+  [[nodiscard]] EvaluationResult evaluate(std::span<const LinearScanPath> paths, const Sensor&, const Space&,
+                                          const UtilityContext& ctx, const EvaluationSetting&) const {
+    const auto t0 = std::chrono::steady_clock::now();
+    EvaluationResult r;
+    r.threads = 1;
+    r.values.resize(paths.size());
+    r.rays.assign(paths.size(), 0);
+    r.voxels.assign(paths.size(), 0);
+    r.refined.assign(paths.size(), 1);
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      r.values[i] = -(paths[i].start().position() - ctx.sensor_position).norm();
+      if (!std::isnan(r.values[i]) && (r.best == EvaluationResult::npos || r.values[i] > r.values[r.best])) r.best = i;
+    }
+    r.status = paths.empty() ? EvaluationStatus::no_candidates : EvaluationStatus::ok;
+    r.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
+};
 
 /// A user-defined UtilityTerm: every candidate is scored by a copy of `setting.prototype` (evaluate_candidates).
 template <UtilityTerm Term>

@@ -7,6 +7,7 @@
 #include "nbs/candidates/hole_rescan.hpp"
 #include "nbs/candidates/replanning.hpp"
 #include "nbs/candidates/sphere_generator.hpp"
+#include "nbs/candidates/surface_edge_explorer.hpp"
 
 #include "nbs/utility/evaluate_candidates.hpp"
 #include "nbs/utility/selection.hpp"
