@@ -83,7 +83,8 @@ bool solid_hits(const UrdfRobot& arm, const Space& space, const JointVector& q, 
 /// time of the call (the space is the one the loop passes; it changes after the call).
 struct CheckedTransfer {
   nbs::ompl::JointTransferPlanner<UrdfRobot> inner;
-  std::shared_ptr<std::vector<std::vector<JointVector>>> planned = std::make_shared<std::vector<std::vector<JointVector>>>();
+  using Paths = std::vector<std::vector<JointVector>>;
+  std::shared_ptr<Paths> planned = std::make_shared<Paths>();
   std::shared_ptr<int> bad_states = std::make_shared<int>(0);
   std::shared_ptr<int> states = std::make_shared<int>(0);
   std::shared_ptr<int> near = std::make_shared<int>(0);  ///< shapes filled and looked up (not skipped)
@@ -100,7 +101,8 @@ struct CheckedTransfer {
       for (int k = 0; k <= n; ++k) {
         ++*states;
         const JointVector q = a + (b - a) * (static_cast<double>(k) / n);
-        if (!inner.robot().joint_limits().contains(q) || solid_hits(inner.robot(), space, q, near.get())) ++*bad_states;
+        if (!inner.robot().joint_limits().contains(q) || solid_hits(inner.robot(), space, q, near.get()))
+          ++*bad_states;
       }
     }
     return p;

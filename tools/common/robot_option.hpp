@@ -37,7 +37,8 @@ struct RobotOptions {
 inline void add_robot_options(CLI::App& app, RobotOptions& o) {
   app.add_option("--robot", o.urdf,
                  "plan for the URDF arm in PATH (e.g. data/robots/lwr4.urdf): Alg. 3 keeps only scan paths the arm "
-                 "can fly (IK every 10 mm, joint limits and jumps, links vs the voxel space); needs nbs::kdl")
+                 "can fly (IK every 10 mm, joint limits and jumps, links vs the voxel space), transfers between "
+                 "scans planned in joint space; needs nbs::kdl and nbs::ompl")
       ->type_name("PATH");
   app.add_option_function<std::string>(
          "--robot-links",
