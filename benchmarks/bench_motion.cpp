@@ -12,7 +12,7 @@
 // pairs planned (status ok within the iteration budget; goal ≥ 0.99); motion.reachability_check_per_path_ms — the
 // median of one RobotPathChecker::check of a 0.1 m horizontal scan path starting at each kept view (IK every
 // ≤ 10 mm, links against the space); motion.transfer_searched_ms (report) — the transfer median over the pairs whose
-// straight motion collides.
+// straight motion collides. Then motion.c_a_at_10_robot_vs_free (bench_motion_loop.cpp).
 
 #include <Eigen/Geometry>
 
@@ -31,6 +31,10 @@
 #include "nbs/robot/link_collision.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
+
+namespace nbs::bench {
+void report_robot_vs_free(bool quick);  // bench_motion_loop.cpp
+}  // namespace nbs::bench
 
 namespace {
 
@@ -131,5 +135,6 @@ int main() {
                          "report: one 0.1 m scan path, IK every <= 10 mm + links vs the space, median over the views");
   bench::report_headline("motion.transfer_searched_ms", median(searched_ms),
                          "report: the transfer median over the pairs whose straight motion collides");
+  bench::report_robot_vs_free(quick);
   return 0;
 }

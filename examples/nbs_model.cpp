@@ -170,6 +170,9 @@ struct Row {
   double utility = 0.0;
   std::size_t unreachable = 0;  ///< candidates of the planning step the robot could not fly (--robot)
   double t_reach = 0.0;         ///< of t_nbs: the reach checks, seconds (--robot)
+  /// --robot: the arm's transfer to this scan's start (0 for the first scan): joint-space length Σ‖Δq‖ (rad), the
+  /// sensor's path along it (m), motion-planning time (s).
+  double transfer_rad = 0.0, transfer_m = 0.0, t_motion = 0.0;
 };
 
 /// c_obs with the simulated scanner's own rule (its working range, any incidence), as nbs_eval computes it.
@@ -214,6 +217,7 @@ std::string_view stop_name(nbs::LoopStop s) {
     case nbs::LoopStop::done: return "done (termination criterion holds: target coverage and density reached)";
     case nbs::LoopStop::max_scans: return "n_abort scans reached";
     case nbs::LoopStop::no_candidates: return "no candidate left";
+    case nbs::LoopStop::transfer_failed: return "transfer failed (the arm found no motion to the chosen scan's start)";
   }
   return "?";
 }
@@ -280,7 +284,7 @@ int run(const Options& opt) {
                 opt.robot.urdf.c_str(), robot->robot.joint_count(), opt.robot.base_link.c_str(),
                 opt.robot.flange_link.c_str(), opt.robot.sensor_link.c_str());
   std::printf("scan mode  c_m^     d_m^    cand  t_nbs s   points   c_a %%   c_b %%   e mm   l_s m%s%s\n",
-              robot ? "  unreach  t_reach s" : "",
+              robot ? "  unreach  t_reach s  transfer rad  transfer m  t_motion s" : "",
               opt.pose.active() ? "  registration             pose mm  pose deg" : "");
   // Scan i uses the noise seed splitmix64(seed ^ (0x5CA9 + i)) (SimulatedDriver); the pose error (none without
   // --pose-error: the scans are then bit-identical) is applied to the reported scan.
@@ -304,7 +308,7 @@ int run(const Options& opt) {
   std::vector<Row> rows;
   double l_s = 0.0;
   const auto execute = [&](const LinearScanPath& path, const IterationStats& plan, std::size_t candidates,
-                           double utility) {
+                           double utility, const std::optional<TransferRecord>& transfer) {
     const std::size_t i = rows.size();
     driver.move_to(path.start().pose());
     const Scan scan = driver.acquire(path);
@@ -317,11 +321,18 @@ int run(const Options& opt) {
     Row r{static_cast<int>(i) + 1, std::string(to_string(plan.mode)), rep.estimated_coverage, rep.mean_density,
           c.c_a(), c.c_b(), gt.rms_m(), l_s, plan.t_nbs_s, candidates, scan.size(), gt.vertices, utility,
           plan.unreachable, plan.t_reach_s};
+    if (transfer) {
+      r.transfer_rad = transfer->joint_length_rad;
+      r.transfer_m = transfer->sensor_length_m;
+      r.t_motion = transfer->t_plan_s;
+    }
     if (i == 0) r.mode = "init";
     rows.push_back(r);
     std::printf("%4d %-4s %6.3f  %6.3f  %6zu  %6.3f  %7zu  %6.2f  %6.2f  %5.3f  %6.3f", r.scan, r.mode.c_str(), r.c_m,
                 r.d_m, r.candidates, r.t_nbs, r.points, 100.0 * r.c_a, 100.0 * r.c_b, 1e3 * r.e_m, r.l_s);
-    if (robot) std::printf("  %7zu  %9.3f", r.unreachable, r.t_reach);
+    if (robot)
+      std::printf("  %7zu  %9.3f  %12.3f  %10.3f  %10.4f", r.unreachable, r.t_reach, r.transfer_rad, r.transfer_m,
+                  r.t_motion);
     if (opt.pose.active()) {
       const PoseErrorRecord& e = driver.last_error();
       const PoseResidual res = residual_pose_error(e.true_to_reported, rep.registration.correction, e.true_centroid);
@@ -342,10 +353,14 @@ int run(const Options& opt) {
                     opt.threads);
       t_render += seconds_since(t);
     }
-    execute(p0, IterationStats{}, 1, 0.0);
+    execute(p0, IterationStats{}, 1, 0.0, std::nullopt);
   }
   LoopStop stop = LoopStop::max_scans;
   PlanStatus last = PlanStatus::ok;
+  // --robot: the arm's transfers between scans (OMPL, joint space, against the voxel space after each scan).
+  std::optional<tools::ToolTransferPlanner> transfer_planner;
+  if (robot) transfer_planner.emplace(tools::transfer_planner(*robot));
+  std::string transfer_failure;
   while (static_cast<int>(rows.size()) < params.max_scans) {
     if (planner.done()) {
       stop = LoopStop::done;
@@ -381,7 +396,16 @@ int run(const Options& opt) {
                     utility, std::size_t{0}, opt.threads);
       t_render += seconds_since(t);
     }
-    execute(plan.candidate->path, plan.stats, plan.stats.evaluated, plan.stats.best_utility);
+    std::optional<TransferRecord> transfer;
+    if (transfer_planner) {
+      transfer = plan_scan_transfer(planner, *transfer_planner, plan);
+      if (!transfer->ok()) {
+        stop = LoopStop::transfer_failed;
+        transfer_failure = transfer->failure;
+        break;
+      }
+    }
+    execute(plan.candidate->path, plan.stats, plan.stats.evaluated, plan.stats.best_utility, transfer);
   }
 
   const IndexedMesh model = to_indexed_mesh(planner.mesh());
@@ -404,6 +428,7 @@ int run(const Options& opt) {
 
   std::printf("stop    %s after %zu scans (last plan: %s)\n", std::string(stop_name(stop)).c_str(), rows.size(),
               std::string(to_string(last)).c_str());
+  if (!transfer_failure.empty()) std::printf("transfer %s\n", transfer_failure.c_str());
   std::printf("mesh    %zu vertices, %zu triangles -> %s; voxels %llu -> %s\n", model.vertices.size(),
               model.triangles.size(), file(opt, "mesh.ply").c_str(), static_cast<unsigned long long>(voxels),
               file(opt, "voxels.ply").c_str());
@@ -446,6 +471,9 @@ int run(const Options& opt) {
     js["robot"] = opt.robot.urdf;
     se["unreachable_candidates"] = series([](const Row& r) { return r.unreachable; });
     se["t_reach_s"] = series([](const Row& r) { return r.t_reach; });
+    se["transfer_joint_rad"] = series([](const Row& r) { return r.transfer_rad; });
+    se["transfer_sensor_m"] = series([](const Row& r) { return r.transfer_m; });
+    se["t_motion_s"] = series([](const Row& r) { return r.t_motion; });
   }
   auto& fi = js["final"];
   fi["c_a"] = fin.c_a;

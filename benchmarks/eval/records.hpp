@@ -48,6 +48,10 @@ struct ScanRow {
   /// With --robot only (RunRecord::robot): candidates of the planning step that the arm could not fly
   /// (IterationStats::unreachable; 0 for the first scan).
   std::size_t unreachable_candidates = 0;
+  /// With --robot only: the arm's transfer to this scan's start (ScanRecord::transfer; 0 for the first scan):
+  double transfer_joint_rad = 0;  ///< joint-space length Σ‖Δq‖, rad
+  double transfer_sensor_m = 0;   ///< the sensor's path length along it (fk), m
+  double t_motion_s = 0;          ///< motion-planning time of the transfer, s
 };
 
 /// One (method, run) of the experiment.
@@ -58,7 +62,8 @@ struct RunRecord {
   int initial_index = 0;   ///< which of the 13 initial scan paths (Sec. 4.7.2)
   int n_abort = 30;     ///< scan limit
   int n_s = 30;         ///< first scan after which ĉ_m and d̄_m reached their targets, else n_abort
-  std::string stop;     ///< "max_scans", "no_candidates", "no_reachable_candidate" (loop ended early) or "done"
+  /// "max_scans", "no_candidates", "no_reachable_candidate", "transfer_failed" (loop ended early) or "done"
+  std::string stop;
   double c_obs = 0;     ///< observability ceiling of the mesh
   /// --pose-error / --registration given: the scans carry the pose fields, the run double_surface_share.
   bool pose = false;
@@ -66,7 +71,7 @@ struct RunRecord {
   /// true surface.
   double double_surface_share = 0;
   double double_surface_share_rel = 0;  ///< the same with the vertices mapped by E₁⁻¹ (see ScanRow::pose_rel_t_mm)
-  bool robot = false;   ///< --robot given: the scans carry unreachable_candidates
+  bool robot = false;   ///< --robot given: the scans carry unreachable_candidates and the transfer columns
   std::vector<ScanRow> scans;
 };
 
@@ -95,7 +100,12 @@ struct RunRecord {
     col("registration", [](const ScanRow& x) { return x.registration; });
     col("icp_s", [](const ScanRow& x) { return x.icp_s; });
   }
-  if (r.robot) col("unreachable_candidates", [](const ScanRow& x) { return x.unreachable_candidates; });
+  if (r.robot) {
+    col("unreachable_candidates", [](const ScanRow& x) { return x.unreachable_candidates; });
+    col("transfer_joint_rad", [](const ScanRow& x) { return x.transfer_joint_rad; });
+    col("transfer_sensor_m", [](const ScanRow& x) { return x.transfer_sensor_m; });
+    col("t_motion_s", [](const ScanRow& x) { return x.t_motion_s; });
+  }
   Json j{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
          {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
          {"scans", std::move(s)}};
@@ -141,6 +151,16 @@ struct RunRecord {
       throw std::runtime_error("scan series 'unreachable_candidates' has a wrong length");
     for (std::size_t i = 0; i < n; ++i)
       r.scans[i].unreachable_candidates = s["unreachable_candidates"][i].get<std::size_t>();
+    // The transfer columns (absent in files written before they existed: left 0).
+    for (const char* key : {"transfer_joint_rad", "transfer_sensor_m", "t_motion_s"})
+      if (s.contains(key) && s.at(key).size() != n)
+        throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
+    if (s.contains("transfer_joint_rad"))
+      for (std::size_t i = 0; i < n; ++i) {
+        r.scans[i].transfer_joint_rad = s["transfer_joint_rad"][i].get<double>();
+        r.scans[i].transfer_sensor_m = s.at("transfer_sensor_m")[i].get<double>();
+        r.scans[i].t_motion_s = s.at("t_motion_s")[i].get<double>();
+      }
   }
   r.pose = j.contains("double_surface_share");
   if (r.pose) {
@@ -187,6 +207,18 @@ struct RunRecord {
   o.k99 = k99;
   o.path_to_k99_m = r.scans[std::min<std::size_t>(static_cast<std::size_t>(k99), r.scans.size()) - 1].l_s_m;
   o.stop_minus_k99 = r.n_s - k99;
+  o.robot = r.robot;
+  if (r.robot && r.scans.size() > 1) {  // over the transfers (scans 2, 3, …)
+    for (std::size_t i = 1; i < r.scans.size(); ++i) {
+      o.mean_transfer_joint_rad += r.scans[i].transfer_joint_rad;
+      o.mean_transfer_sensor_m += r.scans[i].transfer_sensor_m;
+      o.mean_t_motion_s += r.scans[i].t_motion_s;
+    }
+    const auto transfers = static_cast<double>(r.scans.size() - 1);
+    o.mean_transfer_joint_rad /= transfers;
+    o.mean_transfer_sensor_m /= transfers;
+    o.mean_t_motion_s /= transfers;
+  }
   o.pose = r.pose;
   if (r.pose) {
     for (const ScanRow& x : r.scans) o.mean_pose_t_mm += x.pose_t_mm, o.mean_pose_r_deg += x.pose_r_deg;
@@ -249,6 +281,11 @@ inline void sort_records(std::vector<RunRecord>& v) {
       j[s.method]["mean_pose_r_deg"] = s.mean_pose_r_deg;
       j[s.method]["mean_double_surface_share"] = s.mean_double_surface_share;
     }
+    if (s.robot) {  // --robot runs only
+      j[s.method]["mean_transfer_joint_rad"] = s.mean_transfer_joint_rad;
+      j[s.method]["mean_transfer_sensor_m"] = s.mean_transfer_sensor_m;
+      j[s.method]["mean_t_motion_s"] = s.mean_t_motion_s;
+    }
   }
   return j;
 }
@@ -289,10 +326,14 @@ namespace detail {
   std::ostringstream o;
   const std::string ab = std::to_string(n_abort);
   const bool pose = !rows.empty() && std::all_of(rows.begin(), rows.end(), [](const MethodSummary& s) { return s.pose; });
+  const bool robot =
+      !rows.empty() && std::all_of(rows.begin(), rows.end(), [](const MethodSummary& s) { return s.robot; });
   o << "| Method | Selection | Search | runs | median n_s | Notch | mean c_a(n_s) % | mean c_a(" << ab
     << ") % | mean l_s / m | mean t_nbs / s | c_obs % | median k95 | median k99 | mean l_s to k99 / m | n_s − k99 |"
-    << (pose ? " pose t / mm | pose r / deg | double surface % |" : "") << "\n";
-  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << (pose ? "---:|---:|---:|" : "") << "\n";
+    << (pose ? " pose t / mm | pose r / deg | double surface % |" : "")
+    << (robot ? " mean transfer / rad | mean transfer / m | mean t_motion / s |" : "") << "\n";
+  o << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << (pose ? "---:|---:|---:|" : "")
+    << (robot ? "---:|---:|---:|" : "") << "\n";
   for (const MethodSummary& s : rows) {
     const Method m = parse_method(s.method);
     o << "| " << s.method << " | " << selection_name(m) << " | " << search_name(m) << " | " << s.runs << " | "
@@ -304,6 +345,9 @@ namespace detail {
     if (pose)
       o << " " << fixed(s.mean_pose_t_mm, 3) << " | " << fixed(s.mean_pose_r_deg, 3) << " | "
         << fixed(100.0 * s.mean_double_surface_share, 2) << " |";
+    if (robot)
+      o << " " << fixed(s.mean_transfer_joint_rad, 3) << " | " << fixed(s.mean_transfer_sensor_m, 3) << " | "
+        << fixed(s.mean_t_motion_s, 4) << " |";
     o << "\n";
   }
   return o.str();

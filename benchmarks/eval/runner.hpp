@@ -141,6 +141,11 @@ struct RunContext {
     row.candidates = r.planning.evaluated;
     row.mode = r.scan == 1 ? "init" : std::string(to_string(r.planning.mode));
     row.unreachable_candidates = r.planning.unreachable;
+    if (r.transfer) {
+      row.transfer_joint_rad = r.transfer->joint_length_rad;
+      row.transfer_sensor_m = r.transfer->sensor_length_m;
+      row.t_motion_s = r.transfer->t_plan_s;
+    }
     if (ctx.pose.active()) {
       const RegistrationResult& reg = r.integration.registration;
       const PoseErrorRecord& e = driver.last_error();
@@ -164,7 +169,10 @@ struct RunContext {
   SimulationSetting sim;
   sim.seed = seed;
   sim.max_scans = ctx.n_abort;
-  const SimulationResult res = run_loop(planner, driver, sim, on_scan);
+  // --robot: the arm's transfers between scans are planned (OMPL, against the voxel space after each scan) and
+  // recorded; a failed one ends the run ("transfer_failed").
+  const SimulationResult res = ctx.robot ? run_loop(planner, driver, tools::transfer_planner(*ctx.robot), sim, on_scan)
+                                         : run_loop(planner, driver, sim, on_scan);
   if (ctx.pose.active()) {
     rec.pose = true;
     const StreamingMesh& mesh = planner.mesh();
@@ -181,6 +189,7 @@ struct RunContext {
     rec.double_surface_share_rel = far_share(model_to_true);
   }
   if (static_cast<int>(res.records.size()) >= ctx.n_abort) rec.stop = "max_scans";
+  else if (res.stop == LoopStop::transfer_failed) rec.stop = "transfer_failed";
   else if (res.last_plan == PlanStatus::no_reachable_candidate) rec.stop = "no_reachable_candidate";
   else rec.stop = res.stop == LoopStop::no_candidates ? "no_candidates" : "done";
   return rec;

@@ -67,6 +67,10 @@ struct RunOutcome {
   /// double_surface_share.
   bool pose = false;
   double mean_pose_t_mm = 0, mean_pose_r_deg = 0, double_surface_share = 0;
+  /// With --robot: the means over the run's transfers (scans 2, 3, …) of the joint-space length (rad), the sensor's
+  /// path length (m) and the motion-planning time (s); 0 for a run of one scan.
+  bool robot = false;
+  double mean_transfer_joint_rad = 0, mean_transfer_sensor_m = 0, mean_t_motion_s = 0;
 };
 
 /// One row of Tab. 4.5 (plus c_obs and the quartiles).
@@ -79,6 +83,9 @@ struct MethodSummary {
   /// Only when every run has them (RunOutcome::pose): means over the runs.
   bool pose = false;
   double mean_pose_t_mm = 0, mean_pose_r_deg = 0, mean_double_surface_share = 0;
+  /// Only when every run has them (RunOutcome::robot): means over the runs of the per-run transfer means.
+  bool robot = false;
+  double mean_transfer_joint_rad = 0, mean_transfer_sensor_m = 0, mean_t_motion_s = 0;
 };
 
 /// Summarises the runs of one method. Throws std::invalid_argument if `runs` is empty.
@@ -112,6 +119,12 @@ struct MethodSummary {
     s.mean_pose_t_mm = mean(column(&RunOutcome::mean_pose_t_mm));
     s.mean_pose_r_deg = mean(column(&RunOutcome::mean_pose_r_deg));
     s.mean_double_surface_share = mean(column(&RunOutcome::double_surface_share));
+  }
+  s.robot = std::all_of(runs.begin(), runs.end(), [](const RunOutcome& r) { return r.robot; });
+  if (s.robot) {
+    s.mean_transfer_joint_rad = mean(column(&RunOutcome::mean_transfer_joint_rad));
+    s.mean_transfer_sensor_m = mean(column(&RunOutcome::mean_transfer_sensor_m));
+    s.mean_t_motion_s = mean(column(&RunOutcome::mean_t_motion_s));
   }
   return s;
 }

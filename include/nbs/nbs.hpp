@@ -91,6 +91,7 @@
 #include "nbs/robot/link_collision.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "nbs/robot/robot.hpp"
+#include "nbs/robot/transfer.hpp"
 
 #include "nbs/scene/euclidean_clusters.hpp"
 #include "nbs/scene/scene_generator.hpp"

@@ -611,3 +611,74 @@ TEST_CASE("runs.jsonl with --robot: unreachable_candidates round-trips; a bad --
   const std::string out = (tmp.path / "out").string();
   expect_rejected({"--mesh", bunny, "--out", out, "--robot", "/nonexistent/arm.urdf"}, "/nonexistent/arm.urdf", out);
 }
+
+TEST_CASE("without --robot the record and the summary files are byte-identical to before the transfer columns",
+          "[eval][robot]") {
+  // The golden strings were written by this same code built from main at 311f4bb (before issue 19's transfers).
+  const nbs::eval::RunRecord r = hand_record();
+  CHECK(nbs::eval::to_json(r).dump() ==
+        R"({"c_obs":0.95,"initial_index":7,"method":"C_H","n_abort":3,"n_s":2,"run":3,"scans":{"c_a":[0.5,0.8,0.9],)"
+        R"("c_b":[0.4,0.7000000000000001,0.8],"c_m":[0.4,0.8,1.2000000000000002],"candidates":[0,10,20],)"
+        R"("d_m":[0.1,0.2,0.30000000000000004],"e_bar_m":[0.001,0.001,0.001],"l_s_m":[0.1,0.3,0.6],)"
+        R"("mode":["init","BS","BS"],"t_nbs_s":[0.0,1.0,3.0]},"seed":42,"stop":"max_scans"})");
+  const auto rows = nbs::eval::summarize_records({r});
+  CHECK(nbs::eval::summary_json(rows).dump() ==
+        R"({"C_H":{"mean_c_obs":0.95,"mean_ca_at_30":0.9,"mean_ca_at_stop":0.8,"mean_path_length_m":0.6,)"
+        R"("mean_path_to_k99_m":0.6,"mean_t_nbs_s":2.0,"median_k95":4.0,"median_k99":4.0,"median_scans":2.0,)"
+        R"("notch":0.0,"q1_scans":2.0,"q3_scans":2.0,"runs":1,"stop_minus_k99":-2.0}})");
+  CHECK(nbs::eval::summary_markdown(rows, 3) ==
+        "| Method | Selection | Search | runs | median n_s | Notch | mean c_a(n_s) % | mean c_a(3) % | mean l_s / m | "
+        "mean t_nbs / s | c_obs % | median k95 | median k99 | mean l_s to k99 / m | n_s − k99 |\n"
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+        "| C_H | IG/Quality | BS/HR | 1 | 2.0 | ±0.00 | 80.00 | 90.00 | 0.60 | 2.00 | 95.00 | 4.0 | 4.0 | 0.60 | -2.0 |\n");
+  CHECK(nbs::eval::summary_csv(rows) ==
+        "method,selection,search,runs,median_n_s,notch,mean_c_a_at_n_s_percent,mean_c_a_at_n_abort_percent,"
+        "mean_l_s_m,mean_t_nbs_s,c_obs_percent,median_k95,median_k99,mean_path_to_k99_m,stop_minus_k99\n"
+        "C_H,IG/Quality,BS/HR,1,2,0,80,90,0.6,2,95,4,4,0.6,-2\n");
+}
+
+TEST_CASE("robot summary columns from a hand-made runs.jsonl: mean transfer length and planning time",
+          "[eval][robot]") {
+  // Two C_H runs with --robot, 3 scans each (2 transfers each; the first scan has none, its zeros are not counted).
+  // Run 0: transfers 1.0 and 3.0 rad, 0.2 and 0.6 m, 0.01 and 0.03 s -> means 2.0 rad, 0.4 m, 0.02 s.
+  // Run 1: transfers 0.5 and 0.5 rad, 0.1 and 0.3 m, 0.004 and 0.002 s -> means 0.5 rad, 0.2 m, 0.003 s.
+  // Method: 1.25 rad, 0.3 m, 0.0115 s.
+  const char* lines[] = {
+      R"({"method":"C_H","run":0,"seed":1,"initial_index":2,"n_abort":3,"n_s":3,"stop":"max_scans","c_obs":0.9,)"
+      R"("scans":{"c_m":[0,0,0],"d_m":[0,0,0],"c_a":[0.5,0.6,0.7],"c_b":[0,0,0],"e_bar_m":[0,0,0],)"
+      R"("l_s_m":[0.1,0.2,0.3],"t_nbs_s":[0,1,1],"candidates":[0,1,1],"mode":["init","BS","BS"],)"
+      R"("unreachable_candidates":[0,4,2],"transfer_joint_rad":[0,1.0,3.0],"transfer_sensor_m":[0,0.2,0.6],)"
+      R"("t_motion_s":[0,0.01,0.03]}})",
+      R"({"method":"C_H","run":1,"seed":2,"initial_index":5,"n_abort":3,"n_s":3,"stop":"transfer_failed","c_obs":0.9,)"
+      R"("scans":{"c_m":[0,0,0],"d_m":[0,0,0],"c_a":[0.5,0.6,0.7],"c_b":[0,0,0],"e_bar_m":[0,0,0],)"
+      R"("l_s_m":[0.1,0.2,0.3],"t_nbs_s":[0,1,1],"candidates":[0,1,1],"mode":["init","BS","BS"],)"
+      R"("unreachable_candidates":[0,0,1],"transfer_joint_rad":[0,0.5,0.5],"transfer_sensor_m":[0,0.1,0.3],)"
+      R"("t_motion_s":[0,0.004,0.002]}})"};
+  std::vector<nbs::eval::RunRecord> records;
+  for (const char* l : lines) records.push_back(nbs::eval::record_from_json(Json::parse(l)));
+  REQUIRE(records[0].robot);
+  CHECK(records[1].scans[2].transfer_sensor_m == 0.3);
+  CHECK(nbs::eval::to_json(nbs::eval::record_from_json(nbs::eval::to_json(records[1]))) ==
+        nbs::eval::to_json(records[1]));
+  const nbs::eval::RunOutcome o0 = nbs::eval::outcome(records[0]);
+  CHECK(o0.mean_transfer_joint_rad == Approx(2.0));
+  CHECK(o0.mean_transfer_sensor_m == Approx(0.4));
+  CHECK(o0.mean_t_motion_s == Approx(0.02));
+  const auto rows = nbs::eval::summarize_records(records);
+  REQUIRE(rows.size() == 1);
+  CHECK(rows[0].robot);
+  CHECK(rows[0].mean_transfer_joint_rad == Approx(1.25));
+  CHECK(rows[0].mean_transfer_sensor_m == Approx(0.3));
+  CHECK(rows[0].mean_t_motion_s == Approx(0.0115));
+  const Json js = nbs::eval::summary_json(rows);
+  CHECK(js.at("C_H").at("mean_transfer_joint_rad").get<double>() == Approx(1.25));
+  CHECK(js.at("C_H").at("mean_transfer_sensor_m").get<double>() == Approx(0.3));
+  CHECK(js.at("C_H").at("mean_t_motion_s").get<double>() == Approx(0.0115));
+  const std::string md = nbs::eval::summary_markdown(rows, 3);
+  CHECK(md.find("| mean transfer / rad | mean transfer / m | mean t_motion / s |\n") != std::string::npos);
+  CHECK(md.find("| 1.250 | 0.300 | 0.0115 |\n") != std::string::npos);
+  // A wrong series length is refused.
+  Json broken = Json::parse(lines[0]);
+  broken["scans"]["t_motion_s"].erase(0);
+  CHECK_THROWS(nbs::eval::record_from_json(broken));
+}

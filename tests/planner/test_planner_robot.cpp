@@ -5,12 +5,16 @@
 #include "nbs_catch.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
 #include <optional>
 #include <utility>
 
 #include "nbs/planner/nbs_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/robot/free_flying.hpp"
+#include "nbs/robot/transfer.hpp"
 #include "support/analytic_scanner.hpp"
 #include "support/same_plan.hpp"
 
@@ -58,6 +62,32 @@ nbs::SimulationSetting sim(std::uint64_t seed, int max_scans) {
   return s;
 }
 const nbs::JointVector kStart = nbs::JointVector::Zero(6);
+
+/// A TransferPlanner that records every call and fails from call `fail_at` on (1-based; 0: never): its path is the
+/// straight motion from → to, its sensor length the FreeFlyingSensor's straight distance.
+struct RecordingTransfer {
+  struct Call {
+    nbs::JointVector from, to;
+    int scans = 0;  ///< scans integrated into the space when the call was made (voxels observed: a proxy)
+  };
+  std::shared_ptr<std::vector<Call>> calls = std::make_shared<std::vector<Call>>();
+  int fail_at = 0;
+  [[nodiscard]] std::size_t joint_count() const { return 6; }
+  template <nbs::VoxelSpace Space>
+  [[nodiscard]] nbs::TransferPlan plan(const nbs::JointVector& from, const nbs::JointVector& to, const Space&) const {
+    calls->push_back({from, to, 0});
+    nbs::TransferPlan p;
+    if (fail_at > 0 && static_cast<int>(calls->size()) >= fail_at) {
+      p.failure = "test: no motion";
+      return p;
+    }
+    p.waypoints = {from, to};
+    p.sensor_length_m = (to.head<3>() - from.head<3>()).norm();
+    return p;
+  }
+};
+static_assert(nbs::TransferPlanner<RecordingTransfer, nbs::ProbabilisticVoxelSpace<>>);
+static_assert(nbs::TransferPlanner<nbs::NoTransfer, nbs::ProbabilisticVoxelSpace<>>);
 
 }  // namespace
 
@@ -188,4 +218,77 @@ TEST_CASE("robot planner: candidates of S the robot cannot fly now are refused a
     CHECK(none.stats.unreachable == accepted + left);
     CHECK(p.candidate_set().empty());
   }
+}
+
+TEST_CASE("robot loop: NoTransfer changes no plan; each transfer runs from the last scan's end to the next start",
+          "[planner][robot][transfer]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::NbsPlanner<> plain({}, light_lsp(), sphere_box(), setting(1));
+  nbs::NbsPlanner<> free_loop({}, light_lsp(), sphere_box(), setting(1));
+  const auto a = nbs::run_simulation(plain, sphere, sim(3, 4));
+  const auto b = nbs::run_simulation(free_loop, sphere, nbs::NoTransfer{}, sim(3, 4));
+  nbs::test::check_same_plan(a, b);
+  REQUIRE(b.records.size() == 4);
+  CHECK_FALSE(a.records[1].transfer.has_value());  // run_loop without a transfer planner records none
+  CHECK_FALSE(b.records[0].transfer.has_value());  // the first scan has no transfer
+  for (std::size_t i = 1; i < b.records.size(); ++i) {
+    REQUIRE(b.records[i].transfer.has_value());
+    CHECK(b.records[i].transfer->ok());
+    CHECK(b.records[i].transfer->waypoints.empty());
+    CHECK(b.records[i].transfer->joint_length_rad == 0.0);
+    CHECK(b.records[i].transfer->sensor_length_m == 0.0);
+  }
+
+  // With a robot (FreeFlyingSensor: q = the sensor pose) the transfer goes from the end pose of scan i−1 to the
+  // start pose of scan i: the oracle is the executed paths themselves.
+  nbs::RobotPlanner<nbs::FreeFlyingSensor> flying({}, light_lsp(), sphere_box(), setting(1));
+  flying.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
+  const RecordingTransfer rec;
+  const auto c = nbs::run_simulation(flying, sphere, rec, sim(3, 4));
+  nbs::test::check_same_plan(a, c);
+  REQUIRE(rec.calls->size() == 3);
+  const nbs::FreeFlyingSensor fly;
+  for (std::size_t i = 1; i < c.records.size(); ++i) {
+    INFO("scan " << i + 1);
+    const RecordingTransfer::Call& call = (*rec.calls)[i - 1];
+    CHECK(nbs::poses_agree(fly.fk(call.from), c.records[i - 1].path.pose_at(1.0), 1e-9, 1e-9));
+    CHECK(nbs::poses_agree(fly.fk(call.to), c.records[i].path.pose_at(0.0), 1e-9, 1e-9));
+    const nbs::TransferRecord& t = *c.records[i].transfer;
+    REQUIRE(t.waypoints.size() == 2);
+    CHECK(t.joint_length_rad == (call.to - call.from).norm());  // Σ‖Δq‖ over the one segment
+    CHECK(t.sensor_length_m == (call.to.head<3>() - call.from.head<3>()).norm());
+    CHECK(t.t_plan_s >= 0.0);
+  }
+  CHECK(nbs::joint_path_length({kStart, kStart + nbs::JointVector::Constant(6, 1.0), kStart}) ==
+        Approx(2.0 * std::sqrt(6.0)).epsilon(1e-15));
+}
+
+TEST_CASE("robot loop: a failed transfer stops the loop with transfer_failed; the candidate is not scanned",
+          "[planner][robot][transfer]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::RobotPlanner<nbs::FreeFlyingSensor> p({}, light_lsp(), sphere_box(), setting(1));
+  p.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
+  RecordingTransfer rec;
+  rec.fail_at = 2;  // the transfer to scan 3 fails
+  int callbacks = 0;
+  const auto r = nbs::run_simulation(p, sphere, rec, sim(3, 10), [&](const nbs::ScanRecord&) { ++callbacks; });
+  CHECK(r.stop == nbs::LoopStop::transfer_failed);
+  CHECK(std::string(nbs::to_string(r.stop)) == "transfer_failed");
+  CHECK(r.records.size() == 2);
+  CHECK(callbacks == 2);
+  CHECK(p.scans() == 2);  // nothing integrated after the failure
+  REQUIRE(r.failed_transfer.has_value());
+  CHECK(r.failed_transfer->failure == "test: no motion");
+  CHECK(r.last_plan == nbs::PlanStatus::ok);
+}
+
+TEST_CASE("robot loop: a transfer planner for another joint count is refused before any work",
+          "[planner][robot][transfer]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::NbsPlanner<> plain({}, light_lsp(), sphere_box(), setting(1));  // no robot: 0 joints
+  const RecordingTransfer rec;
+  CHECK_THROWS_WITH(nbs::run_simulation(plain, sphere, rec, sim(3, 4)),
+                    nbs_test::Contains("transfer planner has 6 joints but the planner's robot has 0"));
+  CHECK(plain.scans() == 0);
+  CHECK(rec.calls->empty());
 }

@@ -2,8 +2,10 @@
 #pragma once
 /// \file
 /// `--robot PATH` and `--robot-links BASE,FLANGE,SENSOR` (nbs_model, nbs_eval; issue 19): plan for a URDF arm loaded
-/// through nbs::kdl (RuntimePlanner::set_robot). Without `--robot` the tools behave as before, byte for byte. A
-/// binary built without nbs::kdl refuses `--robot` with a message saying so.
+/// through nbs::kdl (RuntimePlanner::set_robot); the transfers between scans are planned through nbs::ompl
+/// (`transfer_planner`: RRT-Connect in joint space against the voxel space after each scan). Without `--robot` the
+/// tools behave as before, byte for byte. A binary built without nbs::kdl or nbs::ompl refuses `--robot` with a
+/// message saying so.
 
 #include <CLI/CLI.hpp>
 
@@ -17,8 +19,10 @@
 #include "nbs/robot/any_robot.hpp"
 #include "nbs/robot/free_flying.hpp"
 #include "nbs/robot/reachability.hpp"
-#ifdef NBS_TOOLS_HAVE_KDL
+#include "nbs/robot/transfer.hpp"
+#if defined(NBS_TOOLS_HAVE_KDL) && defined(NBS_TOOLS_HAVE_OMPL)
 #include "nbs/kdl/urdf_robot.hpp"
+#include "nbs/ompl/joint_transfer_planner.hpp"
 #endif
 
 namespace nbs::tools {
@@ -33,7 +37,8 @@ struct RobotOptions {
 inline void add_robot_options(CLI::App& app, RobotOptions& o) {
   app.add_option("--robot", o.urdf,
                  "plan for the URDF arm in PATH (e.g. data/robots/lwr4.urdf): Alg. 3 keeps only scan paths the arm "
-                 "can fly (IK every 10 mm, joint limits and jumps, links vs the voxel space); needs nbs::kdl")
+                 "can fly (IK every 10 mm, joint limits and jumps, links vs the voxel space), transfers between "
+                 "scans planned in joint space; needs nbs::kdl and nbs::ompl")
       ->type_name("PATH");
   app.add_option_function<std::string>(
          "--robot-links",
@@ -60,9 +65,9 @@ struct LoadedRobot {
 };
 
 /// Loads `o.urdf` through nbs::kdl. Throws nbs::Error naming the path (unreadable, bad URDF, missing link, ...), or
-/// InvalidArgument saying that the binary was built without KDL.
+/// InvalidArgument saying that the binary was built without KDL or OMPL.
 [[nodiscard]] inline LoadedRobot load_robot(const RobotOptions& o) {
-#ifdef NBS_TOOLS_HAVE_KDL
+#if defined(NBS_TOOLS_HAVE_KDL) && defined(NBS_TOOLS_HAVE_OMPL)
   AnyRobot robot(kdl::UrdfRobot::load(o.urdf, o.base_link, o.flange_link, o.sensor_link));
   const JointLimits lim = robot.joint_limits();
   JointVector start = JointVector::Zero(lim.size()), moved = start;
@@ -80,10 +85,24 @@ struct LoadedRobot {
   return {std::move(robot), std::move(start), std::move(setting)};
 #else
   detail::require(false, "--robot ", o.urdf,
-                  ": this binary was built without KDL (the nbs::kdl adapter; Debian liborocos-kdl-dev and "
-                  "liburdfdom-dev), so it cannot load a URDF robot");
+                  ": this binary was built without KDL or OMPL (the nbs::kdl adapter: Debian liborocos-kdl-dev and "
+                  "liburdfdom-dev; nbs::ompl: libompl-dev), so it cannot load a URDF robot and plan its transfers");
   return {AnyRobot(FreeFlyingSensor{}), {}, {}};
 #endif
 }
+
+#if defined(NBS_TOOLS_HAVE_KDL) && defined(NBS_TOOLS_HAVE_OMPL)
+/// The transfer planner of a loaded robot: nbs::ompl::JointTransferPlanner with the robot's link setting (p > 0.05
+/// and unknown voxels are obstacles, the table; the base exempt from it) and JointTransferSetting's defaults
+/// (RRT-Connect, 5000 iterations, shortcutting, seed 1).
+using ToolTransferPlanner = ompl::JointTransferPlanner<AnyRobot>;
+[[nodiscard]] inline ToolTransferPlanner transfer_planner(const LoadedRobot& r) {
+  return ToolTransferPlanner(r.robot, r.setting.links);
+}
+#else
+/// Without OMPL no robot is loaded (load_robot refuses), so this is never called with one.
+using ToolTransferPlanner = NoTransfer;
+[[nodiscard]] inline ToolTransferPlanner transfer_planner(const LoadedRobot&) { return {}; }
+#endif
 
 }  // namespace nbs::tools

@@ -297,6 +297,15 @@ public:
     return finish(PlanStatus::ok);
   }
 
+  /// The robot's current joint configuration (the end of the last scan, RobotReach::configuration()); empty with
+  /// FreeFlying or an inactive robot. The loop's transfers start here (run_loop with a TransferPlanner).
+  [[nodiscard]] JointVector robot_configuration() const {
+    if constexpr (kHasRobot) {
+      if (robot.active()) return robot.configuration();
+    }
+    return {};
+  }
+
   /// True when the termination criterion holds for (n_s, ĉ_m, d̄_m).
   [[nodiscard]] bool done() const { return termination.done(progress()); }
 

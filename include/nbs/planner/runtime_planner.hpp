@@ -185,6 +185,10 @@ public:
     RobotReach<AnyRobot> reach(robot, start, setting);
     std::visit([&](auto& p) { p.robot = reach; }, planner_);
   }
+  /// The robot's current joints (RobotReach::configuration()); empty unless set_robot was called.
+  [[nodiscard]] JointVector robot_configuration() const {
+    return robot().active() ? robot().configuration() : JointVector{};
+  }
   /// The robot policy (inactive unless set_robot was called): the robot's current configuration, its setting.
   [[nodiscard]] const RobotReach<AnyRobot>& robot() const {
     return std::visit([](const auto& p) -> const RobotReach<AnyRobot>& { return p.robot; }, planner_);

@@ -6,11 +6,13 @@
 /// `ScanDriver` (driver/concepts.hpp: real hardware, a replayed session, a simulation); `run_simulation` is
 /// `run_loop` with a `SimulatedDriver` over a `ScanSimulator` (e.g. nbs::embree::SimulatedScanner, for a
 /// LaserStripeProfiler or an AreaSensor): infinite robot workspace (Sec. 4.7), every planned path is executed as
-/// planned.
+/// planned. With a transfer planner (robot/transfer.hpp; issue 19 item 4) the loop also plans and records the arm's
+/// joint-space transfer from the end of each scan to the start of the next.
 
 #include <concepts>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "nbs/core/detail/random.hpp"
 #include "nbs/driver/concepts.hpp"
 #include "nbs/driver/simulated_driver.hpp"
+#include "nbs/robot/transfer.hpp"
 #include "nbs/sensor/area_sensor.hpp"
 
 namespace nbs {
@@ -31,6 +34,15 @@ concept LoopPlanner = requires(P& p, const P& cp, const Scan& scan, std::uint64_
   { cp.done() } -> std::convertible_to<bool>;
   { cp.initial_scan(0) } -> std::same_as<LinearScanPath>;
   cp.sensor();
+};
+
+/// A LoopPlanner whose robot the loop can move: `cp.space()` (the voxel space the transfers avoid) and
+/// `cp.robot_configuration()` (the robot's current joints, the end of the last scan; empty without an active robot).
+/// NbsPlanner and RuntimePlanner model it.
+template <class P>
+concept RobotLoopPlanner = LoopPlanner<P> && requires(const P& cp) {
+  requires VoxelSpace<std::remove_cvref_t<decltype(cp.space())>>;
+  { cp.robot_configuration() } -> std::convertible_to<JointVector>;
 };
 
 /// Settings of run_loop and run_simulation.
@@ -58,15 +70,32 @@ struct ScanRecord {
   IterationStats planning{};          ///< the planning step that chose this scan (zero for the first scan)
   double path_length_m = 0.0;         ///< |s_p² − s_p¹| of this scan
   double total_path_length_m = 0.0;   ///< l_s so far (Sec. 4.7.2)
+  /// With a transfer planner, scans 2, 3, …: the arm's motion from the end of the previous scan to this scan's start
+  /// (planned against the voxel space after the previous scan), executed before the scan. Empty otherwise.
+  std::optional<TransferRecord> transfer;
 };
 
 /// Why the loop stopped.
-enum class LoopStop : std::uint8_t { done, max_scans, no_candidates };
+/// `transfer_failed`: with a transfer planner, the arm found no motion to the chosen scan's start (the scan is not
+/// taken; SimulationResult::transfer_failure says why).
+enum class LoopStop : std::uint8_t { done, max_scans, no_candidates, transfer_failed };
+
+[[nodiscard]] inline const char* to_string(LoopStop s) {
+  switch (s) {
+    case LoopStop::done: return "done";
+    case LoopStop::max_scans: return "max_scans";
+    case LoopStop::no_candidates: return "no_candidates";
+    case LoopStop::transfer_failed: return "transfer_failed";
+  }
+  return "?";
+}
 
 struct SimulationResult {
   std::vector<ScanRecord> records;
   LoopStop stop = LoopStop::max_scans;
   PlanStatus last_plan = PlanStatus::ok;  ///< status of the last next_best_scan (ok if never called)
+  /// stop == transfer_failed: the failed transfer (its failure, the time spent); its candidate was not scanned.
+  std::optional<TransferRecord> failed_transfer;
 };
 
 /// Callback that does nothing.
@@ -87,29 +116,23 @@ template <class Sensor>
 }
 }  // namespace detail
 
-/// Runs the closed loop with `driver`: for every path (the initial one, then each planned one, as
-/// detail::executed_scan_path gives it for the planner's sensor) `driver.move_to(path.start().pose())`, then
-/// `driver.acquire(path)`, then `planner.integrate`. Stops when `planner.done()` (its termination criterion; for
-/// c_a(30) of Sec. 4.7.2 give the planner MaxScansReached as termination), after `max_scans` scans, or when no
-/// candidate is left. `on_scan(record)` is called after each scan is integrated (progress lines, ground-truth
-/// metrics). Throws what the planner or the driver throw (InvalidArgument for an invalid setting); the planner then
-/// holds the scans integrated before.
-template <LoopPlanner Planner, ScanDriver Driver, class Callback = NoScanCallback>
-  requires std::invocable<Callback&, const ScanRecord&>
-SimulationResult run_loop(Planner& planner, Driver& driver, const SimulationSetting& setting = {},
-                          Callback&& on_scan = {}) {
-  setting.validate();
+namespace detail {
+/// The loop of run_loop; `transfer_to(plan)` gives the transfer to the planned scan's start (nullopt: none).
+template <class Planner, class Driver, class Callback, class TransferTo>
+SimulationResult run_loop_with(Planner& planner, Driver& driver, const SimulationSetting& setting, Callback& on_scan,
+                               TransferTo&& transfer_to) {
   SimulationResult out;
   double total = 0.0;
   using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
   const auto execute = [&](const LinearScanPath& planned, int index, std::optional<ScanCandidate> cand,
-                           const IterationStats& plan) {
+                           const IterationStats& plan, std::optional<TransferRecord> transfer) {
     const LinearScanPath path = detail::executed_scan_path<Sensor>(planned);
     ScanRecord rec;
     rec.scan = static_cast<int>(out.records.size()) + 1;
     rec.path = path;
     rec.candidate = std::move(cand);
     rec.initial_index = index;
+    rec.transfer = std::move(transfer);
     driver.move_to(path.start().pose());
     const Scan scan = driver.acquire(path);
     rec.points = scan.size();
@@ -122,7 +145,7 @@ SimulationResult run_loop(Planner& planner, Driver& driver, const SimulationSett
     on_scan(out.records.back());
   };
   const int first = setting.initial_index.value_or(random_initial_scan_index(setting.seed));
-  execute(planner.initial_scan(first), first, std::nullopt, {});
+  execute(planner.initial_scan(first), first, std::nullopt, {}, std::nullopt);
   while (static_cast<int>(out.records.size()) < setting.max_scans) {
     if (planner.done()) {
       out.stop = LoopStop::done;
@@ -134,11 +157,69 @@ SimulationResult run_loop(Planner& planner, Driver& driver, const SimulationSett
       out.stop = plan.status == PlanStatus::done ? LoopStop::done : LoopStop::no_candidates;
       return out;
     }
+    std::optional<TransferRecord> transfer = transfer_to(plan);
+    if (transfer && !transfer->ok()) {
+      out.stop = LoopStop::transfer_failed;
+      out.failed_transfer = std::move(transfer);
+      return out;
+    }
     const LinearScanPath path = plan.candidate->path;
-    execute(path, -1, std::move(plan.candidate), plan.stats);
+    execute(path, -1, std::move(plan.candidate), plan.stats, std::move(transfer));
   }
   out.stop = planner.done() ? LoopStop::done : LoopStop::max_scans;
   return out;
+}
+}  // namespace detail
+
+/// Runs the closed loop with `driver`: for every path (the initial one, then each planned one, as
+/// detail::executed_scan_path gives it for the planner's sensor) `driver.move_to(path.start().pose())`, then
+/// `driver.acquire(path)`, then `planner.integrate`. Stops when `planner.done()` (its termination criterion; for
+/// c_a(30) of Sec. 4.7.2 give the planner MaxScansReached as termination), after `max_scans` scans, or when no
+/// candidate is left. `on_scan(record)` is called after each scan is integrated (progress lines, ground-truth
+/// metrics). Throws what the planner or the driver throw (InvalidArgument for an invalid setting); the planner then
+/// holds the scans integrated before.
+template <LoopPlanner Planner, ScanDriver Driver, class Callback = NoScanCallback>
+  requires std::invocable<Callback&, const ScanRecord&>
+SimulationResult run_loop(Planner& planner, Driver& driver, const SimulationSetting& setting = {},
+                          Callback&& on_scan = {}) {
+  setting.validate();
+  return detail::run_loop_with(planner, driver, setting, on_scan,
+                               [](const PlanResult&) { return std::optional<TransferRecord>{}; });
+}
+
+/// The transfer to the scan `plan` chose (issue 19, item 4): from the robot's current joints (the end of the last
+/// scan, planner.robot_configuration()) to the first configuration of the chosen path's joint trajectory
+/// (PlanResult::joints; the current joints if it is empty), planned by `transfer` against planner.space() as it is
+/// after the last scan (the space is read during the call, so the obstacles are always current). Timed.
+template <RobotLoopPlanner Planner, class Transfer>
+  requires TransferPlanner<Transfer, std::remove_cvref_t<decltype(std::declval<const Planner&>().space())>>
+[[nodiscard]] TransferRecord plan_scan_transfer(const Planner& planner, const Transfer& transfer,
+                                                const PlanResult& plan) {
+  const JointVector from = planner.robot_configuration();
+  const JointVector to = plan.joints.empty() ? from : plan.joints.front();
+  return timed_transfer(transfer, from, to, planner.space());
+}
+
+/// run_loop that also moves the robot between scans: after each planned scan is chosen, the transfer to its start
+/// (plan_scan_transfer: `transfer` from the end joints of the previous scan to the start joints of the next, against
+/// the voxel space after the previous scan) is planned and recorded in ScanRecord::transfer before the scan is
+/// taken. A failed transfer stops the loop with LoopStop::transfer_failed (SimulationResult::failed_transfer); the
+/// candidate is not scanned (it has already left the planner's candidate set). The first scan (one of the 13 initial
+/// paths) has no transfer. Throws InvalidArgument before any work unless transfer.joint_count() is 0 or the
+/// planner's robot's joint count (0: the planner has no active robot), and what run_loop throws.
+template <RobotLoopPlanner Planner, ScanDriver Driver, class Transfer, class Callback = NoScanCallback>
+  requires TransferPlanner<Transfer, std::remove_cvref_t<decltype(std::declval<const Planner&>().space())>> &&
+           std::invocable<Callback&, const ScanRecord&>
+SimulationResult run_loop(Planner& planner, Driver& driver, const Transfer& transfer,
+                          const SimulationSetting& setting = {}, Callback&& on_scan = {}) {
+  setting.validate();
+  const std::size_t n = transfer.joint_count();
+  const auto m = static_cast<std::size_t>(planner.robot_configuration().size());
+  detail::require(n == 0 || n == m, "run_loop: the transfer planner has ", n,
+                  " joints but the planner's robot has ", m, " (0: no active robot)");
+  return detail::run_loop_with(planner, driver, setting, on_scan, [&](const PlanResult& plan) {
+    return std::optional<TransferRecord>(plan_scan_transfer(planner, transfer, plan));
+  });
 }
 
 /// run_loop with `SimulatedDriver(scanner, planner.sensor(), setting.seed)`: scan i (0-based) uses sensor noise seed
@@ -154,5 +235,18 @@ SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const 
   using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
   SimulatedDriver<Scanner, Sensor> driver(scanner, planner.sensor(), setting.seed);
   return run_loop(planner, driver, setting, std::forward<Callback>(on_scan));
+}
+
+/// run_simulation with the robot's transfers between scans (run_loop with `transfer`).
+template <RobotLoopPlanner Planner, class Scanner, class Transfer, class Callback = NoScanCallback>
+  requires ScanSimulator<Scanner, std::remove_cvref_t<decltype(std::declval<const Planner&>().sensor())>> &&
+           TransferPlanner<Transfer, std::remove_cvref_t<decltype(std::declval<const Planner&>().space())>> &&
+           std::invocable<Callback&, const ScanRecord&>
+SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const Transfer& transfer,
+                                const SimulationSetting& setting = {}, Callback&& on_scan = {}) {
+  setting.validate();
+  using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
+  SimulatedDriver<Scanner, Sensor> driver(scanner, planner.sensor(), setting.seed);
+  return run_loop(planner, driver, transfer, setting, std::forward<Callback>(on_scan));
 }
 }  // namespace nbs

@@ -44,12 +44,15 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "nbs/core/detail/random.hpp"
 #include "nbs/core/error.hpp"
 #include "nbs/robot/link_collision.hpp"
 #include "nbs/robot/robot.hpp"
+#include "nbs/robot/transfer.hpp"
+#include "nbs/space/concepts.hpp"
 
 namespace nbs::ompl {
 
@@ -293,5 +296,42 @@ template <Robot R, JointValidity V>
   }
   return out;
 }
+
+/// The OMPL model of nbs::TransferPlanner (robot/transfer.hpp) that the loop calls between scans (run_loop with a
+/// transfer planner; issue 19, item 4): plan_joint_transfer with `LinkCollisionChecker(robot, space, links)` as
+/// validity, built on every call, so the obstacles are the voxel space as it is at the call (p > 0.05 and unknown
+/// voxels by default, as the thesis does; the table). A status other than ok becomes TransferPlan::failure (its
+/// `reason`). Throws at construction what LinkCollisionSetting / JointTransferSetting validation throws; plan throws
+/// what plan_joint_transfer throws (a q of the wrong size, not finite or outside the limits).
+template <Robot R>
+class JointTransferPlanner {
+public:
+  explicit JointTransferPlanner(R robot, LinkCollisionSetting links = {}, JointTransferSetting setting = {})
+      : robot_(std::move(robot)), links_(std::move(links)), setting_(setting) {
+    links_.validate();
+    setting_.validate();
+  }
+
+  [[nodiscard]] std::size_t joint_count() const { return robot_.joint_count(); }
+  [[nodiscard]] const R& robot() const { return robot_; }
+  [[nodiscard]] const LinkCollisionSetting& links() const { return links_; }
+  [[nodiscard]] const JointTransferSetting& setting() const { return setting_; }
+
+  template <VoxelSpace Space>
+  [[nodiscard]] TransferPlan plan(const JointVector& from, const JointVector& to, const Space& space) const {
+    const LinkCollisionChecker<R, Space> validity(robot_, space, links_);
+    JointTransfer t = plan_joint_transfer(robot_, validity, from, to, setting_);
+    TransferPlan out;
+    out.sensor_length_m = t.sensor_length_m;
+    out.waypoints = std::move(t.waypoints);
+    if (!t.ok()) out.failure = std::move(t.reason);
+    return out;
+  }
+
+private:
+  R robot_;
+  LinkCollisionSetting links_;
+  JointTransferSetting setting_;
+};
 
 }  // namespace nbs::ompl
