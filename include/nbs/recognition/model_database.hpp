@@ -3,9 +3,9 @@
 /// \file
 /// The model database of the scene loop (thesis Secs. 3.1, 3.4): a directory with one subdirectory per model,
 ///
-///     <dir>/<name>/mesh.ply    the mesh (model frame, metres; binary PLY)
-///     <dir>/<name>/ppf.bin     its precomputed PPF feature table (ppf_model_io.hpp: versioned, checksummed)
-///     <dir>/<name>/model.json  metadata: format, version, name, size_m, date, source_scans, file names
+/// - `<dir>/<name>/mesh.ply`: the mesh (model frame, metres; binary PLY);
+/// - `<dir>/<name>/ppf.bin`: its precomputed PPF feature table (ppf_model_io.hpp: versioned, checksummed);
+/// - `<dir>/<name>/model.json`: metadata (format, version, name, size_m, date, source_scans, file names);
 ///
 /// loaded at start and extended with newly modeled objects. An entry is written into `<dir>/.<name>.partial/`
 /// (each file via a temporary file renamed into place), and that directory is renamed to `<dir>/<name>` last, so

@@ -3,7 +3,7 @@
 /// \file
 /// The precomputed PPF feature table of a database model as a binary file (format version 1, little-endian):
 ///
-///     "NBSPPF1\n" (8 bytes) | u32 version = 1 | u32 0 (reserved)
+///     magic NBSPPF1 + line feed (8 bytes) | u32 version = 1 | u32 0 (reserved)
 ///     f64 distance_step_ratio | f64 angle_step_rad | u64 max_points | f64 diameter_m
 ///     u64 n_points | u64 n_keys | u64 n_entries
 ///     n_points × 6 f64 (x y z nx ny nz, model frame) | n_keys × u64 key | (n_keys + 1) × u32 offset
