@@ -5,6 +5,7 @@
 /// views (world frame) are clustered with separate translation and rotation cut-offs (cluster_poses), and the mean
 /// pose of the largest cluster is the fused estimate; outliers form their own small clusters.
 
+#include <cmath>
 #include <optional>
 #include <vector>
 
