@@ -76,11 +76,17 @@
 #include "nbs/mesh/surface_features.hpp"
 
 #include "nbs/recognition/hypothesis_quality.hpp"
+#include "nbs/recognition/hypothesis_validation.hpp"
+#include "nbs/recognition/hypothesis_verification.hpp"
+#include "nbs/recognition/model_database.hpp"
 #include "nbs/recognition/oriented_points.hpp"
 #include "nbs/recognition/point_pair_feature.hpp"
 #include "nbs/recognition/pose_clustering.hpp"
+#include "nbs/recognition/pose_fusion.hpp"
 #include "nbs/recognition/ppf_match.hpp"
 #include "nbs/recognition/ppf_model.hpp"
+#include "nbs/recognition/ppf_model_io.hpp"
+#include "nbs/recognition/refine_pose.hpp"
 
 #include "nbs/registration/hand_eye.hpp"
 #include "nbs/registration/icp.hpp"

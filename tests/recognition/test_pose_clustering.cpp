@@ -10,6 +10,7 @@
 
 #include "nbs/core/detail/random.hpp"
 #include "nbs/recognition/pose_clustering.hpp"
+#include "nbs/recognition/pose_fusion.hpp"
 
 using namespace nbs;
 
@@ -96,4 +97,47 @@ TEST_CASE("cluster_poses: empty input, bad settings and scores", "[recognition]"
   REQUIRE(z.size() == 1);
   CHECK(z[0].pose.translation().x() == Approx(0.001));
   CHECK_THROWS_WITH(mean_rotation({}), nbs_test::Contains("no rotations"));
+}
+
+TEST_CASE("PoseFusion: the mean pose of the largest cluster over views, outliers with high scores left out",
+          "[recognition]") {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  const Pose truth = Eigen::Translation3d(0.2, 0.1, 0.0) * Eigen::AngleAxisd(1.2, Vec3::UnitZ());
+  PoseFusion fusion({0.02, 0.2});
+  CHECK(!fusion.fused());
+  std::vector<Mat3> rotations;
+  std::vector<double> weights;
+  Vec3 t = Vec3::Zero();
+  double score = 0.0;
+  for (int view = 0; view < 15; ++view) {  // one hypothesis per view: ~3 mm and ~2° off the truth
+    const Vec3 w = 0.035 * Vec3(noise(rng), noise(rng), noise(rng)).cwiseMax(-2.0).cwiseMin(2.0);
+    PoseHypothesis h;
+    h.pose = Eigen::Translation3d(truth.translation() + 0.003 * Vec3(noise(rng), noise(rng), noise(rng)).cwiseMax(-2.0).cwiseMin(2.0)) *
+             Eigen::AngleAxisd(truth.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix());
+    h.score = 0.5 + 0.1 * view;  // e.g. q_h
+    fusion.add(h);
+    rotations.push_back(h.pose.linear()), weights.push_back(h.score), t += h.score * h.pose.translation(), score += h.score;
+    if (view % 5 == 2)  // a wrong match (the object turned half round, 5 cm off) with a high score, three times
+      for (int k = 0; k < 1 + view / 5; ++k)
+        fusion.add({Eigen::Translation3d(truth.translation() + Vec3(0.05, 0, 0)) *
+                        Eigen::AngleAxisd(truth.linear() * Eigen::AngleAxisd(3.1, Vec3::UnitZ()).toRotationMatrix()),
+                    10.0, 1});
+  }
+  CHECK(fusion.size() == 15 + 1 + 2 + 3);
+  const std::optional<PoseHypothesis> f = fusion.fused();
+  REQUIRE(f);
+  // The wrong cluster has the higher summed score (60 against ~18) but 6 members against 15.
+  CHECK(f->members == 15);
+  CHECK(f->score == Approx(score));
+  CHECK((f->pose.translation() - t / score).norm() < 1e-12);
+  CHECK(rotation_angle_between(f->pose.linear(), mean_rotation(rotations, weights)) < 1e-9);
+  const double et = (f->pose.translation() - truth.translation()).norm();
+  const double er = rotation_angle_between(f->pose.linear(), truth.linear());
+  INFO("fused error " << 1e3 * et << " mm, " << er * 180 / 3.14159265 << " deg");
+  CHECK(et < 0.003);
+  CHECK(er < 0.02);
+  CHECK_THROWS_WITH(fusion.add({Pose::Identity(), -1.0, 1}), Catch::Contains("score must be finite and >= 0, got -1"));
+  CHECK(fusion.size() == 21);
+  CHECK_THROWS_WITH(PoseFusion({0.01, 4.0}), Catch::Contains("max_rotation_rad"));
 }

@@ -58,6 +58,56 @@ public:
     build_table();
   }
 
+  /// The stored table of a model description (ppf_model_io.hpp reads and writes it): the subsampled points, the
+  /// distinct keys in ascending order, CSR offsets (bucket b holds entries[offsets[b], offsets[b + 1])) and the
+  /// entries.
+  struct Table {
+    PpfModelSetting setting;
+    double diameter_m = 0.0;
+    OrientedPoints points;
+    std::vector<std::uint64_t> keys;
+    std::vector<std::uint32_t> offsets;
+    std::vector<PpfEntry> entries;
+  };
+
+  /// Restores a description from its table without recomputing the pairs. Checks the table's structure (not that
+  /// the entries are the pairs of the points): throws InvalidArgument naming the first inconsistency — setting,
+  /// diameter, points, keys not strictly ascending, offsets not rising from 0 to the entry count, a reference out of
+  /// range or an α_m not in [−π, π].
+  explicit PpfModel(Table t) : setting_(t.setting) {
+    setting_.validate();
+    detail::require(std::isfinite(t.diameter_m) && t.diameter_m > 0.0, "PpfModel table: diameter ", t.diameter_m,
+                    " must be finite and > 0");
+    t.points.validate("PpfModel table: points");
+    const std::size_t n = t.points.size();
+    detail::require(n >= 2 && n <= setting_.max_points, "PpfModel table: ", n, " points, need 2 to max_points = ",
+                    setting_.max_points);
+    detail::require(t.offsets.size() == t.keys.size() + 1, "PpfModel table: ", t.offsets.size(), " offsets for ",
+                    t.keys.size(), " keys");
+    detail::require(t.offsets.front() == 0 && t.offsets.back() == t.entries.size(), "PpfModel table: offsets span [",
+                    t.offsets.front(), ", ", t.offsets.back(), "], entries ", t.entries.size());
+    for (std::size_t b = 0; b < t.keys.size(); ++b) {
+      detail::require(t.offsets[b] < t.offsets[b + 1], "PpfModel table: bucket ", b, " is empty or offsets fall");
+      detail::require(b == 0 || t.keys[b - 1] < t.keys[b], "PpfModel table: key ", b, " is not above key ", b - 1);
+    }
+    for (std::size_t k = 0; k < t.entries.size(); ++k)
+      detail::require(t.entries[k].reference < n && std::abs(t.entries[k].alpha) <= 3.1416F, "PpfModel table: entry ",
+                      k, " (reference ", t.entries[k].reference, ", alpha ", t.entries[k].alpha, ") out of range");
+    diameter_ = t.diameter_m;
+    quantizer_ = {setting_.distance_step_ratio * diameter_, setting_.angle_step_rad};
+    points_ = std::move(t.points);
+    keys_ = std::move(t.keys);
+    offsets_ = std::move(t.offsets);
+    entries_ = std::move(t.entries);
+    align_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) align_[i] = align_normal_to_x(points_.normals[i]);
+    buckets_ = detail::CellKeyMap(keys_.size() + 1);
+    for (std::size_t b = 0; b < keys_.size(); ++b) buckets_.try_emplace(keys_[b], static_cast<std::uint32_t>(b));
+  }
+
+  /// A copy of the table (Table above); PpfModel(table()) gives an equal description.
+  [[nodiscard]] Table table() const { return {setting_, diameter_, points_, keys_, offsets_, entries_}; }
+
   [[nodiscard]] double diameter_m() const { return diameter_; }
   [[nodiscard]] const PpfQuantizer& quantizer() const { return quantizer_; }
   [[nodiscard]] const PpfModelSetting& setting() const { return setting_; }
@@ -108,6 +158,7 @@ private:
     for (std::size_t k = 0; k < all.size(); ++k) {
       if (k == 0 || all[k].key != all[k - 1].key) {
         buckets_.try_emplace(all[k].key, static_cast<std::uint32_t>(offsets_.size()));
+        keys_.push_back(all[k].key);
         offsets_.push_back(static_cast<std::uint32_t>(k));
       }
       entries_.push_back(all[k].entry);
@@ -121,6 +172,7 @@ private:
   OrientedPoints points_;
   std::vector<Mat3> align_;
   std::vector<PpfEntry> entries_;         // grouped by key, CSR
+  std::vector<std::uint64_t> keys_;       // key of bucket b, ascending
   std::vector<std::uint32_t> offsets_;    // bucket b holds entries_[offsets_[b], offsets_[b + 1])
   detail::CellKeyMap buckets_;            // key → bucket
 };
