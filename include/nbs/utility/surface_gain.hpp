@@ -14,6 +14,7 @@
 /// - l_i = |s_p^2 − s_p^1| of candidate i (metres), l_0 > 0 (metres): gain per metre of scan path, so a short Hole
 ///   Rescan path (Sec. 4.4) wins over a long Boundary Search path of similar gain.
 
+#include <cmath>
 #include <cstddef>
 #include <numbers>
 #include <span>
