@@ -17,7 +17,8 @@
 // (RuntimeModels::thesis).
 // Environment: NBS_DIAG_FEATURES=1 prints per step the number of voxels with surface features and their mean b_i, d̄_i
 // and 1 − q_i (Eqs. 4.26, 4.28, 4.33), the share with b_i > 0; NBS_DIAG_DUMP=PREFIX
-// writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction of every candidate);
+// writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction, length and source of every
+// candidate; NBS_DIAG_ALT=CODE,CODE adds the utilities of those selections for the same candidates as columns);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
 // (see print_coverage_terms); with it, NBS_DIAG_LOOPS=K also prints the K loops of largest unseen area and where the
 // triangle area lies by face tilt (see print_loops).
@@ -144,13 +145,35 @@ struct DiagnosticUtility {
       ++step;
       const std::string name = std::string(dump) + "_" + std::to_string(step) + ".csv";
       if (std::FILE* f = std::fopen(name.c_str(), "w")) {
-        std::fprintf(f, "i,utility,gain,rays,voxels,x0,y0,z0,x1,y1,z1,vx,vy,vz\n");
+        // NBS_DIAG_ALT="RSE,PC,Q": the utilities of other selections for the same candidates, as extra columns.
+        std::vector<std::string> alt_names;
+        std::vector<std::vector<double>> alt;
+        if (const char* codes = std::getenv("NBS_DIAG_ALT")) {
+          std::string list = codes;
+          for (std::size_t p = 0; p <= list.size();) {
+            const std::size_t q = std::min(list.find(',', p), list.size());
+            if (q > p) {
+              nbs::SelectionUtility v;
+              v.setting.selection = nbs::parse_selection(list.substr(p, q - p));
+              alt_names.push_back(list.substr(p, q - p));
+              alt.push_back(v.evaluate(paths, sensor, space, ctx, eval).values);
+            }
+            p = q + 1;
+          }
+        }
+        std::fprintf(f, "i,utility,gain,rays,voxels,x0,y0,z0,x1,y1,z1,vx,vy,vz,len,source");
+        for (const auto& n : alt_names) std::fprintf(f, ",%s", n.c_str());
+        std::fprintf(f, "\n");
         for (std::size_t i = 0; i < paths.size(); ++i) {
           const nbs::Vec3 a = paths[i].start().position(), b = paths[i].end_position();
           const nbs::Vec3 v = paths[i].start().pose().linear().col(2);
-          std::fprintf(f, "%zu,%g,%g,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f\n", i, sh.utility[i],
+          std::fprintf(f, "%zu,%g,%g,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f", i, sh.utility[i],
                        sh.gain[i], (unsigned long long)r.rays[i], (unsigned long long)r.voxels[i], a.x(), a.y(), a.z(),
                        b.x(), b.y(), b.z(), v.x(), v.y(), v.z());
+          const bool hole = i < sh.last_sources.size() && sh.last_sources[i] == nbs::CandidateSource::hole_rescan;
+          std::fprintf(f, ",%.4f,%s", sh.lengths[i], hole ? "HR" : "BS");
+          for (const auto& a : alt) std::fprintf(f, ",%g", a[i]);
+          std::fprintf(f, "\n");
         }
         std::fclose(f);
       }
