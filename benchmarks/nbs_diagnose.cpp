@@ -405,6 +405,22 @@ int run(const Options& opt) {
     const std::vector<bool>& c = cov.covered();
     for (std::size_t i = 0; i < c.size(); ++i) sh.covered[i] = c[i] ? 1 : 0;
     const char* mode = r.scan == 1 ? "init" : (r.planning.mode == SearchMode::HoleRescan ? "HR" : "BS");
+    if (const char* dump = std::getenv("NBS_DIAG_UNCOVERED")) {  // the samples still uncovered and their voxels
+      const std::string name = std::string(dump) + "_" + std::to_string(r.scan) + ".csv";
+      if (std::FILE* f = std::fopen(name.c_str(), "w")) {
+        std::fprintf(f, "x,y,z,nx,ny,nz,p,observed\n");
+        const SurfaceSamples& smp = truth.samples();
+        for (std::size_t i = 0; i < c.size(); ++i) {
+          if (c[i] || smp.bottom[i]) continue;
+          const Vec3& x = smp.points[i];
+          const auto k = planner.space().grid().key_of(x);
+          std::fprintf(f, "%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%d\n", x.x(), x.y(), x.z(), smp.normals[i].x(),
+                       smp.normals[i].y(), smp.normals[i].z(), planner.space().probability(x),
+                       k ? int(planner.space().observed(*k)) : -1);
+        }
+        std::fclose(f);
+      }
+    }
     if (std::getenv("NBS_DIAG_COVERAGE")) {
       const auto& bottom = truth.samples().bottom;
       const auto n = static_cast<double>(std::count(bottom.begin(), bottom.end(), false));
