@@ -79,6 +79,11 @@ TEST_CASE("UtilityTerm conformance: thesis terms (Eqs. 4.30-4.34) and RandomSele
   nbs::SurfaceGain::Setting sg;
   sg.non_free_voxels = 2.0;
   sg.omega = nbs::modeling_weight(3.0);
+  check_utility_term_conformance(nbs::SurfaceGain(sg), world(), [&](std::size_t i, const CandidateStream& s) {
+    nbs::RearSideEntropyVI r;  // default form: no modeling term, whatever ω
+    return nbs::conformance::evaluate(r, i, s) / 2.0;
+  });
+  sg.modeling = true;
   std::vector<double> lengths(100);
   for (std::size_t i = 0; i < lengths.size(); ++i) lengths[i] = 0.01 * static_cast<double>(i % 17);
   check_utility_term_conformance(nbs::SurfaceGain(sg), world(), [&](std::size_t i, const CandidateStream& s) {

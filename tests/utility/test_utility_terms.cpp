@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "nbs/space/ray_traversal.hpp"
@@ -232,7 +233,7 @@ TEST_CASE("weighted utility combines e_v and q_s from one cast (Eq. 4.30)", "[ut
   CHECK_THROWS_AS(WeightedUtility(s), InvalidArgument);
 }
 
-TEST_CASE("surface gain SG: Eq. 4.30 with rear-side entropy, per metre of scan path", "[utility][sg]") {
+TEST_CASE("surface gain SG: rear-side entropy per metre of scan path, optionally with Eq. 4.30's m_s", "[utility][sg]") {
   SurfaceFeatures f;
   f.border_share = 1.0f;
   f.mean_density = 0.5f;
@@ -246,9 +247,10 @@ TEST_CASE("surface gain SG: Eq. 4.30 with rear-side entropy, per metre of scan p
   const double n_v = 4.0, g_rs = 0.225 * H(0.5) / n_v, ms = (1.0 - 0.3 * 0.5) / n_v;
   SurfaceGain::Setting s;
   s.non_free_voxels = n_v;
-  for (double omega : {0.0, 0.3, 1.0}) {
+  for (const auto& [modeling, omega] : {std::pair{true, 0.0}, {true, 0.3}, {true, 1.0}, {false, 0.3}, {false, 1.0}}) {
+    s.modeling = modeling;
     s.omega = omega;
-    const double bracket = (1 - omega) * g_rs + omega * ms;
+    const double bracket = modeling ? (1 - omega) * g_rs + omega * ms : g_rs;  // default: no modeling term
     CHECK(feed(SurfaceGain(s), {{ray, true}}) == Approx(bracket));
     const std::vector<double> lengths{0.0, 0.15};  // candidate 0: a single view; 1: a 150 mm path
     SurfaceGain per_metre(s, lengths);
@@ -260,6 +262,7 @@ TEST_CASE("surface gain SG: Eq. 4.30 with rear-side entropy, per metre of scan p
     CHECK(feed(SurfaceGain(s, lengths), {{ray, true}}) == Approx(bracket / 0.05));  // candidate 0
   }
   // A short path of equal gain wins; the term's bracket is RearSideEntropyVI / N_v and SurfaceQuality.
+  s.modeling = true;
   s.omega = 0.0;
   CHECK(feed(SurfaceGain(s), {{ray, true}}) == Approx(feed(RearSideEntropyVI{}, {{ray, true}}) / n_v));
   const std::vector<double> bad{std::nan("")};

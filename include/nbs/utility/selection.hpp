@@ -105,6 +105,7 @@ struct SelectionSetting {
   bool peers_count_once = false;                         ///< apply Sec. 4.5.3's visited marking to the peer VIs
   bool per_metre = true;                                 ///< SG: divide by the scan path length (+ l_0)
   double length_offset_m = 0.05;                         ///< SG: l_0 of the per-metre form, > 0
+  bool surface_gain_modeling = false;                    ///< SG: add ω(n_s)·m_s (SurfaceGain::Setting::modeling)
 };
 
 /// Evaluates `candidates` with the criterion `sel.selection` (see the table above). N_v is computed from the space
@@ -153,6 +154,7 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
       g.lambda = sel.lambda;
       g.cutoff_rad = sel.cutoff_rad;
       g.length_offset_m = sel.length_offset_m;
+      g.modeling = sel.surface_gain_modeling;
       std::vector<double> lengths;
       if (sel.per_metre) {
         lengths.reserve(candidates.size());

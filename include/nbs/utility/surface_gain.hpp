@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
-/// Surface gain SG (ours; issue 18, docs/evaluation.md "Surface gain"): the thesis's f_utility (Eq. 4.30) with its
-/// volumetric entropy e_v replaced by the rear-side entropy of Delmerico et al. (2018, `RearSideEntropyVI`), and
-/// optionally divided by the candidate's scan path length:
+/// Surface gain SG (ours; issue 18, docs/evaluation.md "Surface gain"): the rear-side entropy of Delmerico et al.
+/// (2018, `RearSideEntropyVI`) per non-free voxel, divided by the candidate's scan path length:
 ///
-///   f_SG(i) = [(1 − ω)·g_rs(i)/N_v + ω·m_s(i)] / (l_i + l_0)    (per metre; without it the bracket alone)
+///   f_SG(i) = [g_rs(i)/N_v] / (l_i + l_0)                             (the default)
+///   f_SG(i) = [(1 − ω)·g_rs(i)/N_v + ω·m_s(i)] / (l_i + l_0)          (`modeling`: Eq. 4.30 with e_v replaced)
 ///
+/// and without the division when no lengths are given.
 /// - g_rs: Σ over rays of P_v·H(x) of the unobserved voxels directly in front of an occupied one (bits), i.e. the
 ///   unknown space a view would resolve next to surface already measured. e_v (Eq. 4.32) also counts the unknown
 ///   space far from any surface that long beams cross; it made IG/Quality prefer such views (nbs_diagnose).
-/// - m_s, ω = ω(n_s), λ and the incidence cut-off exactly as in Eqs. 4.31, 4.33–4.34 (`SurfaceQuality`).
+/// - m_s, ω = ω(n_s), λ and the incidence cut-off exactly as in Eqs. 4.31, 4.33–4.34 (`SurfaceQuality`). The first
+///   SG evaluation used this form; on the training meshes the modeling term cost scans in the tail (spot k99 12.5
+///   against 10 without it, runs 0–5), so it is off by default.
 /// - l_i = |s_p^2 − s_p^1| of candidate i (metres), l_0 > 0 (metres): gain per metre of scan path, so a short Hole
 ///   Rescan path (Sec. 4.4) wins over a long Boundary Search path of similar gain.
 
@@ -33,6 +36,7 @@ public:
     double lambda = 0.7;                                   ///< λ of Eq. (4.33)
     double cutoff_rad = 70.0 * std::numbers::pi / 180.0;   ///< incidence cut-off of Eq. (4.33)
     double length_offset_m = 0.05;                         ///< l_0 > 0 of the per-metre form
+    bool modeling = false;                                 ///< add ω·m_s (Eq. 4.30's 3D modeling part), see above
     void validate() const {
       detail::require_positive("SurfaceGain.non_free_voxels", non_free_voxels);
       detail::require_in_range("SurfaceGain.omega", omega, 0.0, 1.0);
@@ -61,7 +65,7 @@ public:
   void visit(const VoxelVisit& v) { terms_.visit(v); }
   void end_ray(const RayEnd& e) { terms_.end_ray(e); }
   [[nodiscard]] double value() const {
-    const double f = weighted_utility(rear_side_entropy(), modeling(), setting_.omega);
+    const double f = weighted_utility(rear_side_entropy(), modeling(), setting_.modeling ? setting_.omega : 0.0);
     return lengths_m_.empty() ? f : f / (lengths_m_[candidate_] + setting_.length_offset_m);
   }
   /// g_rs / N_v (bits per non-free voxel).
