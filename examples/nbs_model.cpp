@@ -371,11 +371,12 @@ int run(const Options& opt) {
   const int first = random_initial_scan_index(opt.seed);
   {
     const LinearScanPath p0 = planner.initial_scan(first);
+    std::optional<ArmPicture> arm;  // --robot: the arm at the first path's start (IK from the start joints), else
+    if (robot && (opt.images || viewer))  // at the start joints (the arm cannot reach it)
+      arm = arm_picture(robot->robot, robot->robot.ik(p0.start().pose(), robot->start).value_or(robot->start), {});
+    if (viewer && arm) viewer->add_arm(1, arm->arm, arm->transfer);
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
-      std::optional<ArmPicture> arm;  // --robot: the arm at the first path's start (IK from the start joints), else
-      if (robot)                      // at the start joints (the arm cannot reach it)
-        arm = arm_picture(robot->robot, robot->robot.ik(p0.start().pose(), robot->start).value_or(robot->start), {});
       write_picture(file(opt, numbered("view", 1, "png")), IndexedMesh{}, cam, stage, {p0}, {1.0}, std::size_t{0},
                     opt.threads, arm ? &*arm : nullptr);
       t_render += seconds_since(t);
@@ -419,12 +420,12 @@ int run(const Options& opt) {
     if (viewer) viewer->add_candidates(n, paths, utility);
     std::optional<TransferRecord> transfer;
     if (transfer_planner) transfer = plan_scan_transfer(planner, *transfer_planner, plan);
+    std::optional<ArmPicture> arm;  // --robot: the arm at the chosen path's start, the transfer to it (if planned)
+    if (robot && (opt.images || viewer))
+      arm = arm_picture(robot->robot, plan.joints.empty() ? planner.robot_configuration() : plan.joints.front(),
+                        transfer ? transfer->waypoints : std::vector<JointVector>{});
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
-      std::optional<ArmPicture> arm;  // --robot: the arm at the chosen path's start, the transfer to it (if planned)
-      if (robot)
-        arm = arm_picture(robot->robot, plan.joints.empty() ? planner.robot_configuration() : plan.joints.front(),
-                          transfer ? transfer->waypoints : std::vector<JointVector>{});
       write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, stage, paths,
                     utility, std::size_t{0}, opt.threads, arm ? &*arm : nullptr);
       t_render += seconds_since(t);
@@ -436,6 +437,7 @@ int run(const Options& opt) {
         break;
       }
     }
+    if (viewer && arm) viewer->add_arm(n, arm->arm, arm->transfer);
     execute(plan.candidate->path, plan.stats, plan.stats.evaluated, plan.stats.best_utility, transfer);
   }
 
