@@ -43,6 +43,8 @@
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/mesh/ply.hpp"
 #include "nbs/png/write_png.hpp"
+#include "nbs/robot/shape_mesh.hpp"
+#include "nbs/robot/transfer.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/metrics.hpp"
 #include "nbs/space/export_ply.hpp"
@@ -111,25 +113,47 @@ struct Stage {
   std::vector<nbs::embree::Segment> flown;
 };
 
+/// --robot (issue 19 item 5): the arm at the chosen scan's start configuration (its collision shapes as triangles,
+/// grey-orange) and the sensor's path along the transfer to it (magenta, 2 px; empty for the first scan).
+struct ArmPicture {
+  nbs::IndexedMesh arm;
+  std::vector<nbs::Vec3> transfer;
+};
+
+/// The arm of `robot` at joints `q` and the sensor path along the transfer `waypoints` (fk every ≤ 0.02 rad).
+template <nbs::Robot R>
+ArmPicture arm_picture(const R& robot, const nbs::JointVector& q, const std::vector<nbs::JointVector>& waypoints) {
+  return {nbs::shapes_mesh(robot.collision_shapes(q)), nbs::sensor_path(robot, waypoints, 0.02)};
+}
+
 /// Picture (800 × 600, compressed PNG) of `mesh` (may be empty) on `stage` with candidate segments coloured by
-/// utility; the chosen one (index `chosen`, if any) blue and wider.
+/// utility; the chosen one (index `chosen`, if any) blue and wider; `arm` (if given) drawn as ArmPicture says.
+/// Without `arm` the picture is the one nbs_model wrote before --robot existed, byte for byte.
 void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const nbs::embree::Camera& cam,
                    const Stage& stage, const std::vector<nbs::LinearScanPath>& paths,
-                   const std::vector<double>& utility, std::optional<std::size_t> chosen, unsigned threads) {
-  std::optional<nbs::embree::Scene> scene;
+                   const std::vector<double>& utility, std::optional<std::size_t> chosen, unsigned threads,
+                   const ArmPicture* arm = nullptr) {
+  std::optional<nbs::embree::Scene> scene, arm_scene;
   if (!mesh.triangles.empty()) scene.emplace(mesh);
+  if (arm != nullptr && !arm->arm.triangles.empty()) arm_scene.emplace(arm->arm);
   const std::vector<double> u01 = nbs::normalize_utilities(utility);
   std::vector<nbs::embree::Segment> segs(stage.flown.begin(), stage.flown.end());
   segs.insert(segs.end(), stage.axes.begin(), stage.axes.end());
   for (std::size_t i = 0; i < paths.size(); ++i)
     if (i != chosen) segs.push_back({paths[i].start().position(), paths[i].end_position(), nbs::utility_color(u01[i]), 1});
+  if (arm != nullptr)
+    for (std::size_t i = 1; i < arm->transfer.size(); ++i)
+      segs.push_back({arm->transfer[i - 1], arm->transfer[i], {200, 0, 160}, 2});
   if (chosen) segs.push_back({paths[*chosen].start().position(), paths[*chosen].end_position(), {0, 90, 255}, 3});
   nbs::embree::RenderSetting rs;
   rs.width = 800;
   rs.height = 600;
   rs.threads = threads;
   rs.pedestal = stage.pedestal;
-  const nbs::embree::Image img = nbs::embree::render(scene ? &*scene : nullptr, cam, segs, rs);
+  const std::array<nbs::embree::SceneLayer, 2> layers{
+      nbs::embree::SceneLayer{scene ? &*scene : nullptr, rs.surface},
+      nbs::embree::SceneLayer{arm_scene ? &*arm_scene : nullptr, {225, 150, 85}}};
+  const nbs::embree::Image img = nbs::embree::render(layers, cam, segs, rs);
   nbs::png::write_png(path, img.width, img.height, img.rgb);
 }
 
@@ -347,10 +371,14 @@ int run(const Options& opt) {
   const int first = random_initial_scan_index(opt.seed);
   {
     const LinearScanPath p0 = planner.initial_scan(first);
+    std::optional<ArmPicture> arm;  // --robot: the arm at the first path's start (IK from the start joints), else
+    if (robot && (opt.images || viewer))  // at the start joints (the arm cannot reach it)
+      arm = arm_picture(robot->robot, robot->robot.ik(p0.start().pose(), robot->start).value_or(robot->start), {});
+    if (viewer && arm) viewer->add_arm(1, arm->arm, arm->transfer);
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
       write_picture(file(opt, numbered("view", 1, "png")), IndexedMesh{}, cam, stage, {p0}, {1.0}, std::size_t{0},
-                    opt.threads);
+                    opt.threads, arm ? &*arm : nullptr);
       t_render += seconds_since(t);
     }
     execute(p0, IterationStats{}, 1, 0.0, std::nullopt);
@@ -390,21 +418,26 @@ int run(const Options& opt) {
     const int n = static_cast<int>(rows.size()) + 1;
     write_candidates_ply(file(opt, numbered("candidates", n, "ply")), paths, utility);
     if (viewer) viewer->add_candidates(n, paths, utility);
+    std::optional<TransferRecord> transfer;
+    if (transfer_planner) transfer = plan_scan_transfer(planner, *transfer_planner, plan);
+    std::optional<ArmPicture> arm;  // --robot: the arm at the chosen path's start, the transfer to it (if planned)
+    if (robot && (opt.images || viewer))
+      arm = arm_picture(robot->robot, plan.joints.empty() ? planner.robot_configuration() : plan.joints.front(),
+                        transfer ? transfer->waypoints : std::vector<JointVector>{});
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
       write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, stage, paths,
-                    utility, std::size_t{0}, opt.threads);
+                    utility, std::size_t{0}, opt.threads, arm ? &*arm : nullptr);
       t_render += seconds_since(t);
     }
-    std::optional<TransferRecord> transfer;
-    if (transfer_planner) {
-      transfer = plan_scan_transfer(planner, *transfer_planner, plan);
+    if (transfer) {
       if (!transfer->ok()) {
         stop = LoopStop::transfer_failed;
         transfer_failure = transfer->failure;
         break;
       }
     }
+    if (viewer && arm) viewer->add_arm(n, arm->arm, arm->transfer);
     execute(plan.candidate->path, plan.stats, plan.stats.evaluated, plan.stats.best_utility, transfer);
   }
 

@@ -97,6 +97,7 @@
 #include "nbs/robot/link_collision.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "nbs/robot/robot.hpp"
+#include "nbs/robot/shape_mesh.hpp"
 #include "nbs/robot/transfer.hpp"
 
 #include "nbs/scene/euclidean_clusters.hpp"

@@ -4,6 +4,8 @@
 
 #include "nbs_catch.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -181,4 +183,47 @@ TEST_CASE("renderer: the pedestal disc under the object, its rim, and the world 
   const ne::Image with_axes = ne::render(nullptr, c, ax, s);
   CHECK(count_color(with_axes, ax[0].color) > 0);
   CHECK(count_color(with_axes, ax[1].color) > 0);
+}
+
+TEST_CASE("renderer: layers show the nearest surface in its own albedo; a null layer changes nothing",
+          "[embree][render]") {
+  // The object (r = 10 cm at the origin) and an "arm" sphere (r = 5 cm) sticking out of it, over a pedestal.
+  // Oracle: each pixel of the two-layer picture is the one-layer picture of whichever layer is nearer there
+  // (the headlight shading depends only on the pixel's own hit).
+  const ne::Scene object(nbs_test::sphere_mesh(Vec3::Zero(), 0.1, 64));
+  const ne::Scene arm(nbs_test::sphere_mesh(Vec3(0.1, 0.0, 0.03), 0.05, 64));
+  ne::Camera c;
+  c.eye = Vec3(0.2, -0.8, 0.3);
+  ne::RenderSetting s;
+  s.width = 160;
+  s.height = 120;
+  s.threads = 2;
+  s.pedestal = ne::Disc{Vec3(0, 0, -0.1), 0.15};
+  const nbs::Rgb orange{225, 150, 85};
+  const ne::Image alone = ne::render(&object, c, {}, s);
+  const std::array<ne::SceneLayer, 2> with_null{ne::SceneLayer{&object, s.surface}, ne::SceneLayer{nullptr, orange}};
+  const ne::Image same = ne::render(with_null, c, {}, s);
+  CHECK(same.rgb == alone.rgb);
+  CHECK(same.depth == alone.depth);
+
+  const std::array<ne::SceneLayer, 1> arm_only{ne::SceneLayer{&arm, orange}};
+  const ne::Image arm_alone = ne::render(arm_only, c, {}, s);
+  const std::array<ne::SceneLayer, 2> both{ne::SceneLayer{&object, s.surface}, ne::SceneLayer{&arm, orange}};
+  const ne::Image img = ne::render(both, c, {}, s);
+  ne::RenderSetting bare = s;
+  bare.pedestal.reset();
+  const ne::Image arm_mask = ne::render(&arm, c, {}, bare);  // where the arm projects
+  std::size_t arm_front = 0, arm_hidden = 0, mismatches = 0;
+  for (std::size_t k = 0; k < img.depth.size(); ++k) {
+    const bool arm_nearer = arm_alone.depth[k] < alone.depth[k];
+    const ne::Image& expect = arm_nearer ? arm_alone : alone;
+    arm_front += arm_nearer;
+    arm_hidden += std::isfinite(arm_mask.depth[k]) && !arm_nearer;
+    mismatches += img.depth[k] != expect.depth[k] || !std::equal(img.rgb.begin() + std::ptrdiff_t(3 * k),
+                                                                 img.rgb.begin() + std::ptrdiff_t(3 * k + 3),
+                                                                 expect.rgb.begin() + std::ptrdiff_t(3 * k));
+  }
+  CHECK(mismatches == 0);
+  CHECK(arm_front > 100);  // the arm is seen, and partly hidden by the object
+  CHECK(arm_hidden > 20);
 }

@@ -165,6 +165,41 @@ TEST_CASE("viewer format: face records reproduce the mesh of every scan", "[view
   CHECK(std::vector<std::uint8_t>(rgb.begin(), rgb.begin() + 3) == std::vector<std::uint8_t>(best.begin(), best.end()));
   CHECK(std::vector<std::uint8_t>(rgb.begin() + 3, rgb.begin() + 6) ==
         std::vector<std::uint8_t>(worst.begin(), worst.end()));
+  CHECK_FALSE(meta.contains("arms"));  // no --robot: no arm section, the session data as before
+  CHECK_FALSE(tb.contains("arm_position"));
+
+  // --robot: per scan the arm's triangles and the transfer polyline, float32 as recorded, indices per arm from 0
+  nbs::IndexedMesh arm;
+  arm.vertices = {nbs::Vec3(0.5, 0.1, 0.2), nbs::Vec3(0.6, 0.1, 0.2), nbs::Vec3(0.5, 0.3, 0.2), nbs::Vec3(0.5, 0.1, 0.7)};
+  arm.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const std::vector<nbs::Vec3> transfer = {nbs::Vec3(0.4, 0, 0.5), nbs::Vec3(0.3, 0.1, 0.4), nbs::Vec3(0.2, 0.2, 0.3)};
+  rec.add_arm(1, arm, {});
+  rec.add_arm(2, arm, transfer);
+  rec.write(dir / "index.html", ex, std::nullopt);
+  const std::string html2 = nbs::io_detail::read_file_bytes((dir / "index.html").string());
+  const nlohmann::json meta2 = nlohmann::json::parse(element(html2, "nbs-meta"));
+  const auto& tb2 = meta2.at("buffers");
+  std::size_t raw2 = 0;
+  for (const auto& [name, t] : tb2.items())
+    raw2 = std::max<std::size_t>(raw2, t.at("offset").get<std::size_t>() + 4 * t.at("count").get<std::size_t>());
+  const std::string buf2 = inflate(unbase64(element(html2, "nbs-data")), raw2);
+  const auto& arms = meta2.at("arms");
+  REQUIRE(arms.size() == 2);
+  CHECK(arms[0].at("tcount") == 0);
+  CHECK(arms[1].at("scan") == 2);
+  const auto pos = section<float>(buf2, tb2, "arm_position");
+  const auto idx = section<std::uint32_t>(buf2, tb2, "arm_index");
+  const auto tr = section<float>(buf2, tb2, "arm_transfer");
+  REQUIRE(tr.size() == 9);
+  const std::size_t v0 = arms[1].at("vfirst"), i0 = arms[1].at("ifirst"), t0 = arms[1].at("tfirst");
+  CHECK(arms[1].at("vcount") == 4);
+  CHECK(arms[1].at("icount") == 12);
+  for (std::size_t v = 0; v < 4; ++v)
+    for (int c = 0; c < 3; ++c) CHECK(pos[3 * (v0 + v) + c] == float(arm.vertices[v][c]));
+  for (std::size_t t = 0; t < 4; ++t)
+    for (int c = 0; c < 3; ++c) CHECK(idx[i0 + 3 * t + c] == arm.triangles[t][c]);
+  for (std::size_t k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) CHECK(tr[3 * (t0 + k) + c] == float(transfer[k][c]));
   std::filesystem::remove_all(dir);
 }
 

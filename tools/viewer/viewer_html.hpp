@@ -48,6 +48,7 @@ inline constexpr std::string_view kViewerHtml = R"nbsviewer(<!doctype html>
     <label><input type="checkbox" id="occ"> occupied voxels</label>
     <label><input type="checkbox" id="unk"> unknown voxels</label>
     <label><input type="checkbox" id="box" checked> unknown area</label>
+    <label id="armrow"><input type="checkbox" id="arm" checked> arm at the scan's start, transfer (--robot)</label>
   </div>
   <svg id="plot" width="340" height="190"></svg>
   <div class="legend" id="legend"></div>
@@ -62,6 +63,7 @@ inline constexpr std::string_view kViewerHtml = R"nbsviewer(<!doctype html>
 <script type="module">
 const $ = (id) => document.getElementById(id);
 const meta = JSON.parse($('nbs-meta').textContent);
+if (!meta.arms) $('armrow').style.display = 'none';  // a run without --robot
 const series = (meta.report && meta.report.series) || {};
 const N = meta.scans;
 const msg = (t) => { $('msg').textContent = t; };
@@ -295,6 +297,29 @@ if (THREE) {
     scene.add(g);
   }
 
+  // --robot: the arm at the start of scan `a.scan` (its collision shapes) and the sensor's transfer path to it
+  const armGroups = new Map();
+  if (meta.arms) {
+    const ap = get('arm_position'), ai = get('arm_index'), at = get('arm_transfer');
+    for (const a of meta.arms) {
+      const g = new THREE.Group();
+      const geo = new THREE.BufferGeometry();
+      geo.setAttribute('position', new THREE.BufferAttribute(ap.slice(3 * a.vfirst, 3 * (a.vfirst + a.vcount)), 3));
+      geo.setIndex(new THREE.BufferAttribute(ai.slice(a.ifirst, a.ifirst + a.icount), 1));
+      geo.computeVertexNormals();
+      g.add(new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: 0xe19655, roughness: 0.6, metalness: 0.1,
+                                                                 flatShading: true })));
+      if (a.tcount > 1) {
+        const lg = new THREE.BufferGeometry();
+        lg.setAttribute('position', new THREE.BufferAttribute(at.slice(3 * a.tfirst, 3 * (a.tfirst + a.tcount)), 3));
+        g.add(new THREE.Line(lg, new THREE.LineBasicMaterial({ color: 0xe040c0 })));
+      }
+      g.visible = false;
+      armGroups.set(a.scan, g);
+      scene.add(g);
+    }
+  }
+
   const show = (id) => $(id).checked;
   let current = N;
   setScan = (k) => {
@@ -311,6 +336,7 @@ if (THREE) {
       g.userData.arrow.setColor(i === k - 1 ? 0xffd166 : 0xffffff);
     });
     for (const [scan, g] of stepGroups) g.visible = show('cand') && scan === k + 1;
+    for (const [scan, g] of armGroups) g.visible = show('arm') && scan === k;
     truth.visible = show('truth');
     occ.visible = show('occ');
     unk.visible = show('unk');
@@ -322,7 +348,7 @@ if (THREE) {
     document.body.dataset.scan = k;
     render();
   };
-  for (const id of ['mesh', 'paths', 'cand', 'truth', 'occ', 'unk', 'box'])
+  for (const id of ['mesh', 'paths', 'cand', 'truth', 'occ', 'unk', 'box', 'arm'])
     $(id).addEventListener('change', () => setScan(current));
 
   // orbit: drag rotates, shift/right drag pans, wheel zooms
@@ -369,7 +395,7 @@ $('slider').addEventListener('input', () => {
 });
 function fromHash() {
   const h = new URLSearchParams(location.hash.slice(1));
-  for (const id of ['mesh', 'paths', 'cand', 'truth', 'occ', 'unk', 'box'])
+  for (const id of ['mesh', 'paths', 'cand', 'truth', 'occ', 'unk', 'box', 'arm'])
     if (h.has(id)) $(id).checked = h.get(id) !== '0';
   const k = Number(h.get('scan'));
   setSlider(Number.isInteger(k) && k >= 1 ? Math.min(k, N) : Number($('slider').value));

@@ -109,6 +109,13 @@ class SessionRecorder {
                       std::vector<double>(utility.begin(), utility.end()), chosen});
   }
 
+  /// --robot (issue 19 item 5): the arm at the start of scan `scan` (`arm`: its collision shapes as triangles, world
+  /// frame, robot/shape_mesh.hpp) and the sensor's path along the transfer to that start (world, metres; empty for
+  /// none). The page shows it with the scan.
+  void add_arm(int scan, const IndexedMesh& arm, std::span<const Vec3> transfer) {
+    arms_.push_back({scan, arm, std::vector<Vec3>(transfer.begin(), transfer.end())});
+  }
+
   [[nodiscard]] int scans() const { return scans_; }
 
   /// What `write_viewer` adds next to the recorded session.
@@ -149,6 +156,11 @@ class SessionRecorder {
     std::vector<double> utility;
     std::size_t chosen;
   };
+  struct Arm {
+    int scan;
+    IndexedMesh mesh;
+    std::vector<Vec3> transfer;
+  };
   static constexpr std::uint16_t kOpen = 0xFFFF;
 
   /// The face with its smallest vertex first, orientation kept.
@@ -164,6 +176,7 @@ class SessionRecorder {
   std::vector<Vec3> positions_;
   std::vector<LinearScanPath> paths_;
   std::vector<Step> steps_;
+  std::vector<Arm> arms_;
 };
 
 namespace detail {
@@ -368,6 +381,26 @@ inline std::uintmax_t SessionRecorder::write(const std::filesystem::path& path, 
     blob.add("cand_utility", util, "f32");
     blob.add("cand_rgb", rgb, "u8");
     meta["steps"] = steps;
+  }
+  if (!arms_.empty()) {  // --robot: per scan the arm's triangles and the transfer polyline, float32 metres
+    std::vector<float> pos, transfer;
+    std::vector<std::uint32_t> idx;
+    nlohmann::ordered_json arms = nlohmann::ordered_json::array();
+    const auto put = [](std::vector<float>& out, const Vec3& v) {
+      for (int a = 0; a < 3; ++a) out.push_back(static_cast<float>(v[a]));
+    };
+    for (const Arm& a : arms_) {
+      arms.push_back({{"scan", a.scan}, {"vfirst", pos.size() / 3}, {"vcount", a.mesh.vertices.size()},
+                      {"ifirst", idx.size()}, {"icount", 3 * a.mesh.triangles.size()},
+                      {"tfirst", transfer.size() / 3}, {"tcount", a.transfer.size()}});
+      for (const Vec3& v : a.mesh.vertices) put(pos, v);
+      for (const auto& t : a.mesh.triangles) idx.insert(idx.end(), {t[0], t[1], t[2]});  // per arm from 0
+      for (const Vec3& v : a.transfer) put(transfer, v);
+    }
+    blob.add("arm_position", pos, "f32");
+    blob.add("arm_index", idx, "u32");
+    blob.add("arm_transfer", transfer, "f32");
+    meta["arms"] = arms;
   }
   if (truth) {
     std::vector<std::uint16_t> pos;

@@ -8,7 +8,9 @@
 /// to plan); the OMPL model (RRT-Connect in joint space + simplification) is `nbs::ompl::JointTransferPlanner`
 /// (adapters/ompl/include/nbs/ompl/joint_transfer_planner.hpp). The core includes no adapter.
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <concepts>
 #include <cstddef>
 #include <string>
@@ -37,6 +39,29 @@ struct TransferPlan {
   double s = 0.0;
   for (std::size_t i = 1; i < waypoints.size(); ++i) s += (waypoints[i] - waypoints[i - 1]).norm();
   return s;
+}
+
+/// The sensor origin's path in the world (metres) along the joint polyline `waypoints`: fk at the first waypoint,
+/// then along each straight joint motion at steps whose largest joint change is ≤ `max_step` (rad / m), ending
+/// exactly at each waypoint. For pictures of a transfer; Σ‖Δp‖ over it approaches TransferPlan::sensor_length_m.
+/// Empty for no waypoints. Throws InvalidArgument for max_step ≤ 0 or not finite, and what `robot.fk` throws.
+template <Robot R>
+[[nodiscard]] std::vector<Vec3> sensor_path(const R& robot, const std::vector<JointVector>& waypoints,
+                                            double max_step = 0.02) {
+  detail::require(std::isfinite(max_step) && max_step > 0.0, "sensor_path: max_step must be finite and > 0, got ",
+                  max_step);
+  std::vector<Vec3> out;
+  if (waypoints.empty()) return out;
+  out.push_back(robot.fk(waypoints.front()).translation());
+  for (std::size_t i = 1; i < waypoints.size(); ++i) {
+    const JointVector d = waypoints[i] - waypoints[i - 1];
+    const double largest = d.size() ? d.cwiseAbs().maxCoeff() : 0.0;
+    const int steps = std::max(1, static_cast<int>(std::ceil(largest / max_step)));
+    for (int k = 1; k <= steps; ++k)
+      out.push_back(robot.fk(k == steps ? waypoints[i] : JointVector(waypoints[i - 1] + d * (double(k) / steps)))
+                        .translation());
+  }
+  return out;
 }
 
 /// A transfer planner for the voxel space type Space: `t.plan(from, to, space)` plans a motion from the joint

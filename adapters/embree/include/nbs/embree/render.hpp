@@ -151,13 +151,21 @@ struct Frame {  // camera basis: right, image-up, forward
   return Eigen::Vector2d((0.5 + 0.5 * x / fr.aspect) * s.width, (0.5 - 0.5 * y) * s.height);
 }
 
-/// Renders `scene` (may be null: background only) seen by `cam`, then draws `segments` on top. Throws
-/// InvalidArgument for an invalid camera or setting.
-[[nodiscard]] inline Image render(const Scene* scene, const Camera& cam, std::span<const Segment> segments = {},
-                                  const RenderSetting& s = {}) {
+/// One triangle scene of a picture with its albedo: the object model (RenderSetting::surface), a robot arm in its own
+/// colour. A null scene is skipped.
+struct SceneLayer {
+  const Scene* scene = nullptr;
+  Rgb albedo{205, 205, 215};
+};
+
+/// Renders the nearest surface among `layers` (each in its albedo) seen by `cam`, then draws `segments` on top.
+/// Throws InvalidArgument for an invalid camera or setting.
+[[nodiscard]] inline Image render(std::span<const SceneLayer> layers, const Camera& cam,
+                                  std::span<const Segment> segments = {}, const RenderSetting& s = {}) {
   cam.validate();
   s.validate();
   const render_detail::Frame fr = render_detail::frame(cam, s);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   Image img{s.width, s.height, std::vector<std::uint8_t>(3ull * s.width * s.height),
             std::vector<float>(std::size_t(s.width) * s.height, std::numeric_limits<float>::infinity())};
   const auto shade_rows = [&](std::uint32_t j0, std::uint32_t j1) {
@@ -175,11 +183,13 @@ struct Frame {  // camera basis: right, image-up, forward
         for (int ch = 0; ch < 3; ++ch) c[ch] = static_cast<std::uint8_t>(std::lround(shade * albedo[ch]));
       };
       std::optional<double> mesh_t;
-      if (scene != nullptr)
-        if (const auto hit = scene->first_hit(origin, dir)) {
-          mesh_t = hit->distance;
-          paint(s.surface, std::abs(hit->normal.dot(dir)), hit->distance);
-        }
+      for (const SceneLayer& layer : layers)
+        if (layer.scene != nullptr)
+          if (const auto hit = layer.scene->first_hit(origin, dir, mesh_t.value_or(kInf));
+              hit && (!mesh_t || hit->distance < *mesh_t)) {  // the nearest layer's surface
+            mesh_t = hit->distance;
+            paint(layer.albedo, std::abs(hit->normal.dot(dir)), hit->distance);
+          }
       if (s.pedestal && dir.z() != 0.0) {
         const double t = (s.pedestal->center.z() - origin.z()) / dir.z();
         const Vec3 p = origin + t * dir;
@@ -225,6 +235,14 @@ struct Frame {  // camera basis: right, image-up, forward
     }
   }
   return img;
+}
+
+/// Renders `scene` (may be null: background only) in RenderSetting::surface seen by `cam`, then draws `segments` on
+/// top. Throws InvalidArgument for an invalid camera or setting.
+[[nodiscard]] inline Image render(const Scene* scene, const Camera& cam, std::span<const Segment> segments = {},
+                                  const RenderSetting& s = {}) {
+  const SceneLayer layer{scene, s.surface};
+  return render(std::span<const SceneLayer>(&layer, scene != nullptr ? 1 : 0), cam, segments, s);
 }
 
 }  // namespace nbs::embree
