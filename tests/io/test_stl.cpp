@@ -57,7 +57,8 @@ TEST_CASE("malformed STL files throw FileError naming the file and the problem",
                             "endfacet\n";
   fails("short.stl", "abc", "not an STL file");
   fails("no_end.stl", "solid x\n" + facet, "endsolid");
-  fails("bad_number.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 zero 0\n", "line 4: 'zero' is not a number");
+  fails("bad_number.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 zero 0\n",
+        "line 4: 'zero' is not a number");
   fails("nan.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 nan 0\n", "not finite");
   fails("two_corners.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n",
         "line 6: a facet has 2 vertices");
