@@ -69,6 +69,7 @@ public:
     }
     closed_ = std::ranges::all_of(edge_uses, [](const auto& e) { return e.second % 2 == 0; });
     for (const Vec3& v : vertices_) bounds_.extend(v);
+    build_grids();
   }
 
   [[nodiscard]] const std::string& name() const { return name_; }
@@ -106,8 +107,12 @@ public:
   /// True if g (in G) lies inside the closed mesh (ray parity); always false for an open mesh.
   [[nodiscard]] bool contains(const Vec3& g) const {
     if (!closed_) return false;
+    if (!(g.x() >= bounds_.min.x() && g.x() < bounds_.max.x() && g.y() >= bounds_.min.y() && g.y() < bounds_.max.y()))
+      return false;
     bool inside = false;
-    for (const Tri& r : tris_) {
+    const std::size_t col = cell_index(g, 0) + columns_.n[0] * cell_index(g, 1);
+    for (std::uint32_t i = columns_.start[col]; i < columns_.start[col + 1]; ++i) {
+      const Tri& r = tris_[columns_.tris[i]];
       // Half-open xy bounds: the point perturbed by (ε, ε²) is outside where x ≥ max or y ≥ max.
       if (g.x() < r.lo.x() || g.x() >= r.hi.x() || g.y() < r.lo.y() || g.y() >= r.hi.y()) continue;
       double w[3];  // w[k]: signed doubled xy area of (edge opposite corner k, g)
@@ -134,16 +139,84 @@ public:
   /// True if g (in G) is within `reach` (≥ 0, metres) of the solid: a triangle within reach, or inside. Stops at the
   /// first triangle within reach; equals distance(g) ≤ reach.
   [[nodiscard]] bool within(const Vec3& g, double reach) const {
-    for (std::size_t t = 0; t < tris_.size(); ++t) {
-      const Tri& r = tris_[t];
-      const double s = r.radius + reach;
-      if ((g - r.center).squaredNorm() > s * s) continue;
-      if (point_triangle_distance(g, corner(t, 0), corner(t, 1), corner(t, 2)) <= reach) return true;
+    // The cells of the cube [g − reach, g + reach] (a triangle within reach has its closest point there).
+    std::size_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      if (g[a] + reach < bounds_.min[a] || g[a] - reach > bounds_.max[a]) return false;  // beyond the bounds
+      lo[a] = cell_of(g[a] - reach, a);
+      hi[a] = cell_of(g[a] + reach, a);
     }
+    for (std::size_t z = lo[2]; z <= hi[2]; ++z)
+      for (std::size_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::size_t x = lo[0]; x <= hi[0]; ++x) {
+          const std::size_t c = x + cells_.n[0] * (y + cells_.n[1] * z);
+          for (std::uint32_t i = cells_.start[c]; i < cells_.start[c + 1]; ++i) {
+            const std::uint32_t t = cells_.tris[i];
+            const Tri& r = tris_[t];
+            const double s = r.radius + reach;
+            if ((g - r.center).squaredNorm() > s * s) continue;
+            if (point_triangle_distance(g, corner(t, 0), corner(t, 1), corner(t, 2)) <= reach) return true;
+          }
+        }
     return contains(g);
   }
 
 private:
+  // Triangles binned by their AABB into a uniform grid over the bounds (CSR): 3D for the surface query, one layer
+  // (xy columns) for the ray parity. ⌈∛triangles⌉ cells along the longest axis, cubic cells, at most 64 per axis.
+  struct Grid {
+    std::size_t n[3] = {1, 1, 1};
+    std::vector<std::uint32_t> start, tris;
+  };
+
+  [[nodiscard]] std::size_t cell_of(double x, int a) const {
+    const double f = std::floor((x - bounds_.min[a]) / cell_m_);
+    return static_cast<std::size_t>(std::clamp(f, 0.0, static_cast<double>(cells_.n[a] - 1)));
+  }
+  [[nodiscard]] std::size_t cell_index(const Vec3& g, int a) const { return cell_of(g[a], a); }
+
+  void build_grids() {
+    const double extent = bounds_.extent().maxCoeff();  // > 0: the mesh has a triangle of positive area
+    const double per_axis = std::clamp(std::ceil(std::cbrt(static_cast<double>(tris_.size()))), 1.0, 64.0);
+    cell_m_ = extent / per_axis;
+    for (int a = 0; a < 3; ++a)
+      cells_.n[a] = static_cast<std::size_t>(
+          std::clamp(std::ceil(bounds_.extent()[a] / cell_m_), 1.0, 64.0));
+    columns_.n[0] = cells_.n[0];
+    columns_.n[1] = cells_.n[1];
+    const auto fill = [&](Grid& grid, int dims) {
+      const std::size_t count = grid.n[0] * grid.n[1] * grid.n[2];
+      grid.start.assign(count + 1, 0);
+      for (int pass = 0; pass < 2; ++pass) {
+        std::vector<std::uint32_t> at(grid.start.begin(), grid.start.end() - 1);
+        if (pass == 1) grid.tris.resize(grid.start.back());
+        for (std::size_t t = 0; t < tris_.size(); ++t) {
+          Vec3 lo = vertices_[tris_[t].v[0]], hi = lo;
+          for (int k = 1; k < 3; ++k) {
+            lo = lo.cwiseMin(corner(t, k));
+            hi = hi.cwiseMax(corner(t, k));
+          }
+          std::size_t l[3] = {0, 0, 0}, h[3] = {0, 0, 0};
+          for (int a = 0; a < dims; ++a) {
+            l[a] = cell_of(lo[a], a);
+            h[a] = cell_of(hi[a], a);
+          }
+          for (std::size_t z = l[2]; z <= h[2]; ++z)
+            for (std::size_t y = l[1]; y <= h[1]; ++y)
+              for (std::size_t x = l[0]; x <= h[0]; ++x) {
+                const std::size_t c = x + grid.n[0] * (y + grid.n[1] * z);
+                if (pass == 0) ++grid.start[c + 1];
+                else grid.tris[at[c]++] = static_cast<std::uint32_t>(t);
+              }
+        }
+        if (pass == 0)
+          for (std::size_t c = 0; c < count; ++c) grid.start[c + 1] += grid.start[c];
+      }
+    };
+    fill(cells_, 3);
+    fill(columns_, 2);
+  }
+
   struct Tri {
     std::array<std::uint32_t, 3> v{};
     Vec3 center = Vec3::Zero();
@@ -171,6 +244,8 @@ private:
   std::vector<Tri> tris_;
   Aabb bounds_;
   bool closed_ = false;
+  double cell_m_ = 1.0;
+  Grid cells_, columns_;
 };
 
 }  // namespace nbs
