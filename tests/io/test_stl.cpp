@@ -3,6 +3,7 @@
 // malformed files (wrong size, bad numbers, missing vertices, truncation) rejected with the file and the problem.
 #include "nbs_catch.hpp"
 
+#include <filesystem>
 #include <string>
 
 #include "nbs/io/load_mesh.hpp"
@@ -80,6 +81,11 @@ TEST_CASE("malformed STL files throw FileError naming the file and the problem",
   inf[84 + 12 + 3] = '\x7f';  // first corner's x: exponent all ones
   inf[84 + 12 + 2] = '\x80';
   fails("inf.stl", inf, "triangle 0 corner 0 is not finite");
+  nbs::IndexedMesh huge = tetrahedron();
+  huge.vertices[2].y() = 1e39;
+  CHECK_THROWS_WITH(nbs::write_stl((nbs_test::temp_dir() / "huge.stl").string(), huge),
+                    Contains("huge.stl") && Contains("vertex 2") && Contains("float32"));
+  CHECK_FALSE(std::filesystem::exists(nbs_test::temp_dir() / "huge.stl"));
   CHECK_THROWS_WITH(nbs::read_stl((nbs_test::temp_dir() / "missing.stl").string()),
                     Contains("missing.stl") && Contains("cannot open"));
 }

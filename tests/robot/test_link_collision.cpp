@@ -58,6 +58,20 @@ void set_cell(Space& space, CellMap& record, const VoxelKey& k, Cell c) {
   set_voxel_state(space.mutable_backend(), k, c == Cell::occupied ? occupied_state() : free_state());
 }
 
+// Sets every voxel of the space's bounds at random (fixed seed via rng): occupied with probability `occupied`,
+// unknown with `unknown`, else free.
+void random_cells(Space& space, CellMap& record, std::mt19937_64& rng, double occupied, double unknown) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const KeyBox b = space.bounds_keys();
+  for (int z = b.min.z; z <= b.max.z; ++z)
+    for (int y = b.min.y; y <= b.max.y; ++y)
+      for (int x = b.min.x; x <= b.max.x; ++x) {
+        const double r = u(rng);
+        set_cell(space, record, {x, y, z},
+                 r < occupied ? Cell::occupied : r < occupied + unknown ? Cell::unknown : Cell::free);
+      }
+}
+
 // Every key of the space's bounds, classified from the test's record (not set = unknown); checks that the space
 // agrees (p above/below 0.05, observed or not).
 std::vector<std::pair<VoxelKey, Cell>> all_cells(const Space& space, const CellMap& record) {
@@ -170,16 +184,8 @@ TEST_CASE("LinkCollisionChecker agrees with a brute-force oracle over every voxe
   Space space(0.01, Aabb{Vec3::Constant(-0.1), Vec3::Constant(0.0999)});
   CellMap record;
   std::mt19937_64 rng(20261205);
+  random_cells(space, record, rng, 0.02, 0.02);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  {
-    const KeyBox b = space.bounds_keys();
-    for (int z = b.min.z; z <= b.max.z; ++z)
-      for (int y = b.min.y; y <= b.max.y; ++y)
-        for (int x = b.min.x; x <= b.max.x; ++x) {
-          const double r = u(rng);
-          set_cell(space, record, {x, y, z}, r < 0.02 ? Cell::occupied : r < 0.04 ? Cell::unknown : Cell::free);
-        }
-  }
   const auto cells = all_cells(space, record);
   REQUIRE(cells.size() == 8000);
   const double half_diag = 0.5 * std::sqrt(3.0) * 0.01;
@@ -524,14 +530,8 @@ TEST_CASE("LinkCollisionChecker: a link with a box mesh gives the same contacts 
   Space space(0.01, Aabb{Vec3::Constant(-0.1), Vec3::Constant(0.0999)});
   CellMap record;
   std::mt19937_64 rng(7);
+  random_cells(space, record, rng, 0.01, 0.01);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const KeyBox kb = space.bounds_keys();
-  for (int z = kb.min.z; z <= kb.max.z; ++z)
-    for (int y = kb.min.y; y <= kb.max.y; ++y)
-      for (int x = kb.min.x; x <= kb.max.x; ++x) {
-        const double r = u(rng);
-        set_cell(space, record, {x, y, z}, r < 0.01 ? Cell::occupied : r < 0.02 ? Cell::unknown : Cell::free);
-      }
   const Vec3 size(0.05, 0.035, 0.045);
   FlyingBody primitive{{}, make_shape(LinkShape::Kind::box)};
   primitive.shape.size = size;

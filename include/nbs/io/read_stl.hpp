@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <string>
 #include <string_view>
@@ -82,12 +83,7 @@ private:
   };
   while (pos < text.size()) {
     ++line_no;
-    std::size_t nl = text.find('\n', pos);
-    if (nl == std::string_view::npos) nl = text.size();
-    std::string_view line = text.substr(pos, nl - pos);
-    pos = nl + 1;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    const auto w = split_words(line);
+    const auto w = split_words(next_line(text, pos));
     if (w.empty()) continue;
     if (ended) fail("text after 'endsolid'");
     const std::string_view k = w[0];
@@ -176,7 +172,8 @@ private:
 
 /// Writes `mesh` as STL (binary: float32, little endian; ASCII: 17 significant digits) to `path` via a temporary
 /// file renamed into place. Facet normals are the unit face normals (0 for a zero-area triangle). Throws
-/// InvalidArgument for an invalid mesh, FileError naming the file if it cannot be written.
+/// InvalidArgument for an invalid mesh or (binary) a coordinate beyond float32's range, FileError naming the file if
+/// it cannot be written.
 inline void write_stl(const std::string& path, const IndexedMesh& mesh, StlFormat format = StlFormat::binary) {
   mesh.validate();
   std::string out;
@@ -195,6 +192,9 @@ inline void write_stl(const std::string& path, const IndexedMesh& mesh, StlForma
     const auto put_vec = [&](const Vec3& v) {
       for (int a = 0; a < 3; ++a) put_u32(std::bit_cast<std::uint32_t>(static_cast<float>(v[a])));
     };
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+      detail::require(mesh.vertices[i].cwiseAbs().maxCoeff() <= std::numeric_limits<float>::max(), "write_stl ",
+                      path, ": vertex ", i, " (", mesh.vertices[i].transpose(), ") exceeds binary STL's float32 range");
     put_u32(static_cast<std::uint32_t>(mesh.triangles.size()));
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       put_vec(normal(t));

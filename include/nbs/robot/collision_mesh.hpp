@@ -9,7 +9,9 @@
 /// triangles; a closed mesh is the solid it bounds (inside = odd parity of the crossings of the ray from the point
 /// along G's +z; edge ties broken by simulation of simplicity, one sign per edge, so a ray through an edge or vertex
 /// counts consistently). An *open* mesh is a thin shell: only its surface counts (a point deep inside an open mesh's
-/// hull is outside). Cost: O(triangles) per query point (bounding-sphere and xy-bound rejection per triangle).
+/// hull is outside). Cost: the triangles are binned once into a uniform grid over the bounds; `within` tests the
+/// triangles of the cells within reach of the point, then (closed meshes) those of its xy column — O(triangles) in
+/// the worst case; `surface_distance` / `distance` test every triangle (bounding-sphere rejection).
 
 #include <algorithm>
 #include <array>
