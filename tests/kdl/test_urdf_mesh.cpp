@@ -13,6 +13,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "nbs/io/read_stl.hpp"
 #include "nbs/kdl/urdf_robot.hpp"
 #include "nbs/robot/link_collision.hpp"
@@ -32,7 +34,7 @@ const Vec3 kBox(0.1, 0.06, 0.04);  // the mesh file's box, centred at its origin
 // (2, 1, 1) through package://, 5 cm up; link "arm" (revolute j1 about z, 0.1 m above the base) = the ASCII box
 // through a relative path at (0.2, 0, 0) rotated 0.3 rad about z. `base_mesh` / `arm_mesh` replace the references.
 struct Package {
-  fs::path ws = fs::temp_directory_path() / "nbs_test_kdl_mesh_ws";
+  fs::path ws = fs::temp_directory_path() / ("nbs_test_kdl_mesh_ws_" + std::to_string(::getpid()));
   fs::path urdf = ws / "meshpkg" / "urdf" / "arm.urdf";
   explicit Package(const std::string& base_mesh = "package://meshpkg/meshes/box.stl",
                    const std::string& arm_mesh = "../meshes/box_ascii.stl", const std::string& box_or_mesh = "") {
@@ -104,7 +106,8 @@ TEST_CASE("UrdfRobot: mesh collision elements are loaded once (package://, relat
 TEST_CASE("UrdfRobot: package:// search rule (given roots, ROS_PACKAGE_PATH) and file:// paths", "[kdl][mesh]") {
   const Package pkg;
   // The same URDF outside its package: not found, unless a root or ROS_PACKAGE_PATH names the workspace.
-  const fs::path elsewhere = fs::temp_directory_path() / "nbs_test_kdl_mesh_elsewhere.urdf";
+  const fs::path elsewhere =
+      fs::temp_directory_path() / ("nbs_test_kdl_mesh_elsewhere_" + std::to_string(::getpid()) + ".urdf");
   std::string text;
   {
     std::ifstream in(pkg.urdf);
