@@ -482,7 +482,7 @@ TEST_CASE("mesh shapes: a 12-triangle box mesh hits exactly the voxels of the pr
   std::mt19937_64 rng(20261205);
   long inside = 0, hits = 0, compared = 0, distance_mismatches = 0, hit_mismatches = 0;
   std::string first_mismatch;
-  for (int trial = 0; trial < 30; ++trial) {
+  for (int trial = 0; trial < 16; ++trial) {
     const Pose T = random_pose(rng, 0.05);
     const Pose T_GW = T.inverse();
     Pose T2 = T;
@@ -519,9 +519,9 @@ TEST_CASE("mesh shapes: a 12-triangle box mesh hits exactly the voxels of the pr
   INFO(first_mismatch);
   CHECK(distance_mismatches == 0);
   CHECK(hit_mismatches == 0);
-  CHECK(compared > 700'000);
-  CHECK(inside > 300);  // the inside test decided many voxels
-  CHECK(hits > 5000);
+  CHECK(compared > 350'000);
+  CHECK(inside > 100);  // 165: the inside test decided many voxels
+  CHECK(hits > 2000);  // 4033
 }
 
 TEST_CASE("LinkCollisionChecker: a link with a box mesh gives the same contacts as the primitive box (voxels and "
