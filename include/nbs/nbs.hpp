@@ -53,6 +53,7 @@
 #include "nbs/io/read_obj.hpp"
 #include "nbs/io/read_ply.hpp"
 #include "nbs/io/read_ply_points.hpp"
+#include "nbs/io/read_stl.hpp"
 #include "nbs/io/pose_file.hpp"
 #include "nbs/io/session.hpp"
 #include "nbs/io/session_writer.hpp"
@@ -93,6 +94,7 @@
 #include "nbs/registration/registration.hpp"
 #include "nbs/registration/selectable_registration.hpp"
 
+#include "nbs/robot/collision_mesh.hpp"
 #include "nbs/robot/free_flying.hpp"
 #include "nbs/robot/link_collision.hpp"
 #include "nbs/robot/reachability.hpp"

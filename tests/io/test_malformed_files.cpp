@@ -128,7 +128,7 @@ TEST_CASE("every truncation and seeded byte corruption of a binary PLY fails cle
 
 TEST_CASE("load_mesh rejects missing files, unknown formats and broken OBJ files", "[io][bad-input]") {
   CHECK_THROWS_WITH(nbs::load_mesh((nbs_test::temp_dir() / "missing.ply").string()), Contains("cannot open"));
-  CHECK_THROWS_WITH(nbs::load_mesh(nbs_test::write_temp("mesh.stl", "solid x\n")), Contains("unknown mesh format"));
+  CHECK_THROWS_WITH(nbs::load_mesh(nbs_test::write_temp("mesh.xyz", "solid x\n")), Contains("unknown mesh format"));
   CHECK_THROWS_WITH(nbs::load_mesh(nbs_test::write_temp("empty.obj", "")), Contains("empty.obj"));
   CHECK_THROWS_WITH(nbs::load_mesh(nbs_test::write_temp("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")),
                     Contains("bad_index.obj"));

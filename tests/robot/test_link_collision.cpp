@@ -9,12 +9,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nbs/robot/free_flying.hpp"
@@ -22,6 +25,7 @@
 #include "nbs/space/backend.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "planar_robot.hpp"
+#include "sim/test_meshes.hpp"
 
 using namespace nbs;
 using nbs::test::PlanarArm;
@@ -52,6 +56,20 @@ void set_cell(Space& space, CellMap& record, const VoxelKey& k, Cell c) {
   record[k] = c;
   if (c == Cell::unknown) return;
   set_voxel_state(space.mutable_backend(), k, c == Cell::occupied ? occupied_state() : free_state());
+}
+
+// Sets every voxel of the space's bounds at random (fixed seed via rng): occupied with probability `occupied`,
+// unknown with `unknown`, else free.
+void random_cells(Space& space, CellMap& record, std::mt19937_64& rng, double occupied, double unknown) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const KeyBox b = space.bounds_keys();
+  for (int z = b.min.z; z <= b.max.z; ++z)
+    for (int y = b.min.y; y <= b.max.y; ++y)
+      for (int x = b.min.x; x <= b.max.x; ++x) {
+        const double r = u(rng);
+        set_cell(space, record, {x, y, z},
+                 r < occupied ? Cell::occupied : r < occupied + unknown ? Cell::unknown : Cell::free);
+      }
 }
 
 // Every key of the space's bounds, classified from the test's record (not set = unknown); checks that the space
@@ -166,16 +184,8 @@ TEST_CASE("LinkCollisionChecker agrees with a brute-force oracle over every voxe
   Space space(0.01, Aabb{Vec3::Constant(-0.1), Vec3::Constant(0.0999)});
   CellMap record;
   std::mt19937_64 rng(20261205);
+  random_cells(space, record, rng, 0.02, 0.02);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  {
-    const KeyBox b = space.bounds_keys();
-    for (int z = b.min.z; z <= b.max.z; ++z)
-      for (int y = b.min.y; y <= b.max.y; ++y)
-        for (int x = b.min.x; x <= b.max.x; ++x) {
-          const double r = u(rng);
-          set_cell(space, record, {x, y, z}, r < 0.02 ? Cell::occupied : r < 0.04 ? Cell::unknown : Cell::free);
-        }
-  }
   const auto cells = all_cells(space, record);
   REQUIRE(cells.size() == 8000);
   const double half_diag = 0.5 * std::sqrt(3.0) * 0.01;
@@ -423,4 +433,143 @@ TEST_CASE("LinkCollisionChecker / RobotPathChecker: bad input gives a clear erro
   ScanPathReachSetting bad;
   bad.max_sample_step_m = 0.0;
   CHECK_THROWS_WITH(RobotPathChecker(arm, space, {}, bad), nbs_test::Contains("max_sample_step_m"));
+}
+
+namespace {
+
+// A closed box mesh (12 outward triangles, corners not shared: CollisionMesh welds them) of full edge lengths
+// `size`, centred at `c`, appended to m.
+void append_box_mesh(IndexedMesh& m, const Vec3& size, const Vec3& c = Vec3::Zero()) {
+  const IndexedMesh box = test::box_mesh(c - 0.5 * size, c + 0.5 * size);
+  const auto o = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.insert(m.vertices.end(), box.vertices.begin(), box.vertices.end());
+  for (const auto& t : box.triangles) m.triangles.push_back({o + t[0], o + t[1], o + t[2]});
+}
+
+Pose random_pose(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Pose T = Pose::Identity();
+  T.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+  T.translation() = spread * Vec3(u(rng), u(rng), u(rng));
+  return T;
+}
+
+}  // namespace
+
+TEST_CASE("mesh shapes: a 12-triangle box mesh hits exactly the voxels of the primitive box (seeded random poses); "
+          "two boxes in one mesh and an open square likewise",
+          "[robot][collision][mesh]") {
+  // Oracle: the primitive box's exact distance (detail::shape_distance, itself checked against the brute-force
+  // closest point above). Voxel centres of 1 cm voxels in [−0.1, 0.1)³, reach = √3/2 · l_v (+ a margin).
+  const Space space(0.01, Aabb{Vec3::Constant(-0.1), Vec3::Constant(0.0999)});
+  const Vec3 size(0.05, 0.035, 0.045);  // deep enough for voxel centres inside beyond the reach
+  IndexedMesh one, two, square;
+  append_box_mesh(one, size);
+  const Vec3 offset(0.0, 0.0, 0.06);  // a second box above the first: a +z ray crosses four faces
+  append_box_mesh(two, size);
+  append_box_mesh(two, size, offset);
+  square.vertices = {Vec3(-0.025, -0.02, 0), Vec3(0.025, -0.02, 0), Vec3(0.025, 0.02, 0), Vec3(-0.025, 0.02, 0)};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const CollisionMesh mesh_one(one), mesh_two(two), mesh_square(square);
+  REQUIRE(mesh_one.closed());
+  REQUIRE(mesh_two.closed());
+  REQUIRE_FALSE(mesh_square.closed());
+  LinkShape box;
+  box.size = size;
+  LinkShape flat;
+  flat.size = Vec3(0.05, 0.04, 0.0);  // the open square is a box of zero thickness (a shell has no inside)
+
+  std::mt19937_64 rng(20261205);
+  long inside = 0, hits = 0, compared = 0, distance_mismatches = 0, hit_mismatches = 0;
+  std::string first_mismatch;
+  for (int trial = 0; trial < 16; ++trial) {
+    const Pose T = random_pose(rng, 0.05);
+    const Pose T_GW = T.inverse();
+    Pose T2 = T;
+    T2.translation() += T.linear() * offset;
+    const double reach = (trial % 2 == 0 ? 0.0 : 0.004) + 0.5 * std::sqrt(3.0) * 0.01;
+    // The table test uses the world AABB: the transformed vertices' bounds equal the primitive's exact bounds.
+    const Aabb a = detail::shape_bounds(box, T), b = mesh_one.world_bounds(T);
+    REQUIRE((a.min - b.min).norm() < 1e-12);
+    REQUIRE((a.max - b.max).norm() < 1e-12);
+    const KeyBox kb = space.bounds_keys();
+    for (int z = kb.min.z; z <= kb.max.z; ++z)
+      for (int y = kb.min.y; y <= kb.max.y; ++y)
+        for (int x = kb.min.x; x <= kb.max.x; ++x) {
+          const Vec3 c = space.grid().center(VoxelKey{x, y, z});
+          const Vec3 g = T_GW * c;
+          const double d1 = detail::shape_distance(box, T, c), d2 = detail::shape_distance(box, T2, c);
+          const double d12 = std::min(d1, d2), df = detail::shape_distance(flat, T, c);
+          for (const auto& [mesh, d] : {std::pair{&mesh_one, d1}, {&mesh_two, d12}, {&mesh_square, df}}) {
+            const auto mismatch = [&](const char* what, long& count) {
+              if (count++ == 0)
+                first_mismatch = detail::concat(what, ": trial ", trial, " voxel ", x, " ", y, " ", z, " oracle ", d,
+                                                " mesh ", mesh->distance(g), " reach ", reach);
+            };
+            // Signed distances agree (inside included) to rounding.
+            if (!(std::abs(mesh->distance(g) - d) <= 1e-12)) mismatch("distance", distance_mismatches);
+            if (std::abs(d - reach) < 1e-9) continue;  // on the decision boundary: rounding decides
+            if (mesh->within(g, reach) != (d <= reach)) mismatch("hit", hit_mismatches);
+            ++compared;
+          }
+          inside += d1 < -reach;
+          hits += d1 <= reach;
+        }
+  }
+  INFO(first_mismatch);
+  CHECK(distance_mismatches == 0);
+  CHECK(hit_mismatches == 0);
+  CHECK(compared > 350'000);
+  CHECK(inside > 100);  // 165: the inside test decided many voxels
+  CHECK(hits > 2000);  // 4033
+}
+
+TEST_CASE("LinkCollisionChecker: a link with a box mesh gives the same contacts as the primitive box (voxels and "
+          "table)",
+          "[robot][collision][mesh]") {
+  Space space(0.01, Aabb{Vec3::Constant(-0.1), Vec3::Constant(0.0999)});
+  CellMap record;
+  std::mt19937_64 rng(7);
+  random_cells(space, record, rng, 0.01, 0.01);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Vec3 size(0.05, 0.035, 0.045);
+  FlyingBody primitive{{}, make_shape(LinkShape::Kind::box)};
+  primitive.shape.size = size;
+  FlyingBody meshed{{}, primitive.shape};
+  IndexedMesh m;
+  append_box_mesh(m, size);
+  meshed.shape.kind = LinkShape::Kind::mesh;
+  meshed.shape.mesh_path = "box.stl";
+  meshed.shape.size = Vec3::Ones();
+  meshed.shape.mesh = std::make_shared<const CollisionMesh>(m);
+  LinkCollisionSetting s;
+  s.table_height_m = -0.06;
+  s.safety_margin_m = 0.002;
+  const LinkCollisionChecker a(primitive, space, s), b(meshed, space, s);
+  int contacts = 0, table = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    JointVector q(6);
+    for (int i = 0; i < 3; ++i) q[i] = -0.12 + 0.24 * u(rng);
+    Vec3 w(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    q.tail<3>() = w.normalized() * std::numbers::pi * u(rng);
+    const auto ca = a.first_contact(q), cb = b.first_contact(q);
+    INFO("q " << q.transpose());
+    REQUIRE(ca.has_value() == cb.has_value());
+    if (!ca) continue;
+    ++contacts;
+    table += ca->with == LinkContact::With::table;
+    CHECK(ca->with == cb->with);
+    CHECK(ca->voxel == cb->voxel);
+  }
+  CHECK(contacts >= 30);
+  CHECK(table >= 10);
+  CHECK(contacts - table >= 10);
+  LinkCollisionSetting skip = s;
+  skip.skip_mesh_shapes = true;
+  const LinkCollisionChecker skipping(meshed, space, skip);
+  JointVector q = JointVector::Zero(6);
+  q[2] = -0.08;  // through the table
+  CHECK(a.collides(q));
+  CHECK(b.collides(q));
+  CHECK_FALSE(skipping.collides(q));  // documented: skipped meshes are not checked
 }

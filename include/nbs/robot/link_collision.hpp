@@ -14,9 +14,12 @@
 /// Table: the half-space z < `table_height_m` (optionally limited to an xy rectangle) — a shape collides if its
 /// lowest point is below `table_height_m` + margin. Links mounted on the table by design (the robot's base) are
 /// exempt by name (`table_exempt_links`); they are still checked against the voxels.
-/// Meshes: kept as file paths by the Robot concept, not loaded here — the constructor refuses a robot with mesh shapes
-/// unless `skip_mesh_shapes` is set, in which case they are not checked (a documented gap; approximate such links
-/// by primitives in the URDF's `<collision>` elements).
+/// Meshes (`LinkShape::mesh`, loaded once by the robot model, e.g. nbs::kdl::UrdfRobot): the same rule with the
+/// distance to the solid mesh — the nearest triangle, or inside for a closed mesh (ray parity; an open mesh is a thin
+/// shell, see robot/collision_mesh.hpp), voxels restricted to the mesh's exact world AABB (its transformed vertices);
+/// table test by its lowest transformed vertex. Cost per voxel: the voxel's p look-up, then for an obstacle
+/// CollisionMesh::within (the triangles binned near the voxel centre and in its column; docs/robot.md for timings). A mesh shape whose model did not load it (null `mesh`) is refused at construction, naming the link and
+/// file, unless `skip_mesh_shapes` is set, which leaves every mesh unchecked.
 
 #include <Eigen/Core>
 
@@ -46,7 +49,7 @@ struct LinkCollisionSetting {
   Eigen::Vector2d table_min_xy = Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity());
   Eigen::Vector2d table_max_xy = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   std::vector<std::string> table_exempt_links;  ///< links standing on the table by design (e.g. "lwr_base_link")
-  bool skip_mesh_shapes = false;                ///< true: meshes are not checked (false: the constructor refuses them)
+  bool skip_mesh_shapes = false;  ///< true: mesh shapes are not checked (false: checked; refused if not loaded)
 
   /// Throws InvalidArgument naming the bad field.
   void validate() const {
@@ -72,8 +75,8 @@ struct LinkContact {
 
 namespace detail {
 
-/// Signed distance from the world point p to the solid shape placed at T_WG (negative inside), metres; +inf for a
-/// mesh. Box, cylinder, capsule, sphere as defined at LinkShape.
+/// Signed distance from the world point p to the solid shape placed at T_WG (negative inside), metres; for a mesh
+/// CollisionMesh::distance (≥ 0 for an open mesh; +inf if it is not loaded). Shapes as defined at LinkShape.
 [[nodiscard]] inline double shape_distance(const LinkShape& s, const Pose& T_WG, const Vec3& p) {
   const Vec3 g = T_WG.linear().transpose() * (p - T_WG.translation());  // p in the shape frame G
   switch (s.kind) {
@@ -90,12 +93,14 @@ namespace detail {
       const Vec3 d = g.cwiseAbs() - 0.5 * s.size;
       return std::min(d.maxCoeff(), 0.0) + d.cwiseMax(0.0).norm();
     }
-    case LinkShape::Kind::mesh: break;
+    case LinkShape::Kind::mesh:
+      if (s.mesh) return s.mesh->distance(g);
+      break;
   }
   return std::numeric_limits<double>::infinity();
 }
 
-/// The exact world AABB of the solid shape placed at T_WG (empty for a mesh).
+/// The exact world AABB of the solid shape placed at T_WG (empty for a mesh that is not loaded).
 [[nodiscard]] inline Aabb shape_bounds(const LinkShape& s, const Pose& T_WG) {
   const Mat3& R = T_WG.linear();
   Vec3 r = Vec3::Zero();
@@ -107,7 +112,7 @@ namespace detail {
         r[i] = 0.5 * s.length * std::abs(R(i, 2)) + s.radius * std::sqrt(std::max(0.0, 1.0 - R(i, 2) * R(i, 2)));
       break;
     case LinkShape::Kind::box: r = R.cwiseAbs() * (0.5 * s.size); break;
-    case LinkShape::Kind::mesh: return {};
+    case LinkShape::Kind::mesh: return s.mesh ? s.mesh->world_bounds(T_WG) : Aabb{};
   }
   return {T_WG.translation() - r, T_WG.translation() + r};
 }
@@ -127,15 +132,16 @@ inline void validate_shape(const PlacedShape& p) {
 /// the tests and their tolerance). Holds references to the robot and the space: both must outlive the checker, and
 /// the space must not change while a check runs. Const members may run concurrently (if the robot's do).
 /// Cost: per shape, one distance evaluation per voxel of its world AABB inflated by margin + √3/2 l_v (clipped to
-/// the space's bounds), one p look-up only for voxels within reach; stops at the first collision.
+/// the space's bounds), one p look-up only for voxels within reach (a mesh: the p look-up first, then the mesh test,
+/// O(triangles)); stops at the first collision.
 template <Robot R, VoxelSpace Space>
 class LinkCollisionChecker {
 public:
   using Setting = LinkCollisionSetting;
 
   /// Throws InvalidArgument for an invalid setting, or — found from the shapes at the middle of the joint limits
-  /// (0 for an unlimited joint) — a shape with bad dimensions or a mesh shape when `skip_mesh_shapes` is false,
-  /// naming the link.
+  /// (0 for an unlimited joint) — a shape with bad dimensions or, unless `skip_mesh_shapes`, a mesh shape whose
+  /// mesh is not loaded, naming the link and the file.
   LinkCollisionChecker(const R& robot, const Space& space, Setting setting = {})
       : robot_(&robot), space_(&space), setting_(std::move(setting)) {
     setting_.validate();
@@ -145,10 +151,7 @@ public:
       if (std::isfinite(lim.lower[j]) && std::isfinite(lim.upper[j])) q0[j] = 0.5 * (lim.lower[j] + lim.upper[j]);
     for (const PlacedShape& p : robot.collision_shapes(q0)) {
       detail::validate_shape(p);
-      detail::require(p.shape.kind != LinkShape::Kind::mesh || setting_.skip_mesh_shapes, "link '", p.link,
-                      "' has a mesh collision shape (", p.shape.mesh_path,
-                      "), which LinkCollisionChecker does not load: approximate it by a box, cylinder, capsule or "
-                      "sphere, or set LinkCollisionSetting::skip_mesh_shapes to leave it unchecked");
+      require_loaded(p);
     }
     reach_m_ = setting_.safety_margin_m + 0.5 * std::sqrt(3.0) * space.resolution_m();
   }
@@ -156,18 +159,23 @@ public:
   [[nodiscard]] const Setting& setting() const { return setting_; }
 
   /// The first contact of the links at q (shapes in the robot's order, the table before the voxels per shape), or
-  /// nullopt if q is collision-free. Throws InvalidArgument for a q of the wrong size or not finite.
+  /// nullopt if q is collision-free. Throws InvalidArgument for a q of the wrong size or not finite, or a mesh shape
+  /// that is not loaded (unless `skip_mesh_shapes`).
   [[nodiscard]] std::optional<LinkContact> first_contact(const JointVector& q) const {
     validate_joint_vector(q, robot_->joint_count(), "LinkCollisionChecker q");
     for (const PlacedShape& p : robot_->collision_shapes(q)) {
-      if (p.shape.kind == LinkShape::Kind::mesh) continue;  // refused at construction unless skip_mesh_shapes
+      const bool mesh = p.shape.kind == LinkShape::Kind::mesh;
+      if (mesh && setting_.skip_mesh_shapes) continue;
+      if (mesh) require_loaded(p);
       const Aabb b = detail::shape_bounds(p.shape, p.T_WG);
       if (hits_table(p.link, b)) return LinkContact{p.link, LinkContact::With::table, {}};
       const Aabb reach{b.min - Vec3::Constant(reach_m_), b.max + Vec3::Constant(reach_m_)};
       const double l = space_->resolution_m();
+      const Pose T_GW = p.T_WG.inverse();
       const auto key = detail::first_voxel_in(*space_, reach, [&](const VoxelKey& k, const Aabb& cube) {
-        return detail::shape_distance(p.shape, p.T_WG, cube.min + Vec3::Constant(0.5 * l)) <= reach_m_ &&
-               is_obstacle(k);
+        const Vec3 c = cube.min + Vec3::Constant(0.5 * l);
+        if (mesh) return is_obstacle(k) && p.shape.mesh->within(T_GW * c, reach_m_);
+        return detail::shape_distance(p.shape, p.T_WG, c) <= reach_m_ && is_obstacle(k);
       });
       if (key) return LinkContact{p.link, LinkContact::With::voxel, *key};
     }
@@ -184,6 +192,16 @@ public:
   }
 
 private:
+  // Throws InvalidArgument naming the link and file if p is a mesh shape without a loaded mesh (and meshes are not
+  // skipped).
+  void require_loaded(const PlacedShape& p) const {
+    detail::require(p.shape.kind != LinkShape::Kind::mesh || p.shape.mesh != nullptr || setting_.skip_mesh_shapes,
+                    "link '", p.link, "' has a mesh collision shape (", p.shape.mesh_path,
+                    ") whose mesh is not loaded (LinkShape::mesh is null): load it when making the robot "
+                    "(nbs::kdl::UrdfRobot does), or set LinkCollisionSetting::skip_mesh_shapes to leave meshes "
+                    "unchecked");
+  }
+
   // The table test of one shape with world AABB b: lowest point below the table top + margin, and b (inflated by the
   // margin) over the table's xy extent (conservative for a shape partly beside a finite table).
   [[nodiscard]] bool hits_table(const std::string& link, const Aabb& b) const {

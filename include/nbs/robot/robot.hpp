@@ -15,12 +15,14 @@
 #include <cmath>
 #include <concepts>
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
+#include "nbs/robot/collision_mesh.hpp"
 
 namespace nbs {
 
@@ -51,8 +53,10 @@ struct JointLimits {
 /// One collision shape of a link, in the link frame L: the shape's own frame G is `T_LG`.
 /// box: full edge lengths `size` (x, y, z), centred at G. cylinder: `radius`, `length` along G's z, centred at G.
 /// capsule: the cylinder plus hemispherical caps of `radius` (total length `length` + 2 `radius`). sphere:
-/// `radius` at G. mesh: the file `mesh_path` (as written in the model, unresolved) scaled by `size` per axis.
-/// Metres.
+/// `radius` at G. mesh: the file `mesh_path` (as written in the model) scaled by `size` per axis; `mesh` holds its
+/// triangles in G with that scale already applied (loaded once by the model, shared by copies; closed meshes are
+/// solids, open ones shells: robot/collision_mesh.hpp), or is null if the model did not load it (then
+/// LinkCollisionChecker refuses the shape unless told to skip meshes). Metres.
 struct LinkShape {
   enum class Kind { box, cylinder, capsule, sphere, mesh };
   Kind kind = Kind::box;
@@ -61,6 +65,7 @@ struct LinkShape {
   double radius = 0.0;
   double length = 0.0;
   std::string mesh_path;
+  std::shared_ptr<const CollisionMesh> mesh;  ///< mesh only: the loaded, scaled triangles in G (or null)
 };
 
 /// A link's collision shape placed in the world for one configuration: T_WG = T_WL · T_LG.

@@ -25,12 +25,8 @@ inline void check_obj_text(const std::string& path, std::string_view text) {
   auto fail = [&](const auto&... msg) { throw FileError(detail::concat(path, ": line ", line_no, ": ", msg...)); };
   while (pos < text.size()) {
     ++line_no;
-    std::size_t nl = text.find('\n', pos);
-    if (nl == std::string_view::npos) nl = text.size();
-    std::string_view line = text.substr(pos, nl - pos);
-    pos = nl + 1;
+    std::string_view line = next_line(text, pos);
     if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const auto w = split_words(line);
     if (w.empty()) continue;
     if (w[0] == "v") {

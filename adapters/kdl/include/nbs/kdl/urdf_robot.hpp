@@ -4,9 +4,10 @@
 /// `nbs::kdl::UrdfRobot`: a `Robot` (robot/robot.hpp) read from a URDF file (urdfdom) with KDL's kinematics: the chain
 /// base link → flange link (revolute, continuous, prismatic and fixed joints), a sensor link rigidly attached below
 /// the flange (its fixed joints give the hand-eye transform T_FS), the base placed in the world at T_WB, and the
-/// links' `<collision>` elements as `LinkShape`s. IK: KDL's Levenberg–Marquardt solver (`ChainIkSolverPos_LMA`)
-/// from the seed, then from seeded random configurations within the limits; revolute angles are wrapped by 2π into
-/// their limits, a solution outside the limits or off the target by more than the tolerances is rejected.
+/// links' `<collision>` elements as `LinkShape`s (meshes loaded once, found by `resolve_mesh_uri`). IK: KDL's
+/// Levenberg–Marquardt solver (`ChainIkSolverPos_LMA`) from the seed, then from seeded random configurations within
+/// the limits; revolute angles are wrapped by 2π into their limits, a solution outside the limits or off the target
+/// by more than the tolerances is rejected.
 /// Thread-safety: const members may run concurrently (each ik call makes its own solver); `load` is not
 /// thread-safe while urdfdom's console output is captured (console_bridge's global handler).
 
@@ -21,14 +22,19 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -36,6 +42,8 @@
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
 #include "nbs/driver/concepts.hpp"
+#include "nbs/io/load_mesh.hpp"
+#include "nbs/robot/collision_mesh.hpp"
 #include "nbs/robot/robot.hpp"
 
 namespace nbs::kdl {
@@ -56,7 +64,87 @@ struct IkSetting {
   }
 };
 
+/// The file a URDF mesh reference `uri` names, for the URDF file `urdf`:
+///  - `package://NAME/REST`: the first existing of R/NAME/REST, or R/REST if R's own name is NAME, for each
+///    directory R in `package_roots` (in order), then in the environment variable ROS_PACKAGE_PATH (':'-separated);
+///    then, if the URDF's directory or one of its ancestors is named NAME, the nearest such directory /REST (the
+///    usual layout NAME/urdf/arm.urdf with NAME/meshes/);
+///  - `file://PATH` and a plain PATH: PATH if absolute, else relative to the URDF's directory.
+/// Throws FileError naming the URDF, `what` (the link) and the reference if no such file exists (listing the places
+/// tried) or the scheme is not one of these.
+[[nodiscard]] inline std::filesystem::path resolve_mesh_uri(const std::string& uri, const std::filesystem::path& urdf,
+                                                            const std::vector<std::filesystem::path>& package_roots,
+                                                            const std::string& what) {
+  namespace fs = std::filesystem;
+  const fs::path dir = urdf.has_parent_path() ? urdf.parent_path() : fs::path(".");
+  const auto fail = [&](const std::string& why) {
+    throw FileError(nbs::detail::concat(urdf.string(), ": ", what, ": collision mesh '", uri, "' ", why));
+  };
+  std::string tried;
+  const auto exists = [&](const fs::path& p) {
+    std::error_code ec;
+    tried += (tried.empty() ? "" : ", ") + p.string();
+    return fs::is_regular_file(p, ec);
+  };
+  constexpr std::string_view package = "package://", file = "file://";
+  if (uri.starts_with(package)) {
+    const std::string rest_all = uri.substr(package.size());
+    const std::size_t slash = rest_all.find('/');
+    if (slash == std::string::npos || slash == 0) fail("is not package://NAME/PATH");
+    const std::string name = rest_all.substr(0, slash), rest = rest_all.substr(slash + 1);
+    std::vector<fs::path> roots = package_roots;
+    if (const char* env = std::getenv("ROS_PACKAGE_PATH"))
+      for (std::string_view e(env); !e.empty();) {
+        const std::size_t colon = e.find(':');
+        if (colon != 0) roots.emplace_back(std::string(e.substr(0, colon)));
+        e = colon == std::string_view::npos ? std::string_view() : e.substr(colon + 1);
+      }
+    for (const fs::path& r : roots) {
+      if (exists(r / name / rest)) return r / name / rest;
+      if (r.filename() == name && exists(r / rest)) return r / rest;
+    }
+    for (fs::path a = fs::absolute(dir); !a.empty(); a = a.parent_path()) {
+      if (a.filename() == name) {
+        if (exists(a / rest)) return a / rest;
+        break;
+      }
+      if (a == a.parent_path()) break;
+    }
+    fail(nbs::detail::concat("not found (package roots: the given ones, then ROS_PACKAGE_PATH, then an ancestor "
+                             "directory of the URDF named '", name, "'; tried: ", tried.empty() ? "nothing" : tried,
+                             ")"));
+  }
+  std::string path = uri;
+  if (uri.starts_with(file)) path = uri.substr(file.size());
+  else if (uri.find("://") != std::string::npos) fail("has an unsupported scheme (package:// and file:// are)");
+  if (path.empty()) fail("is empty");
+  const fs::path p = fs::path(path).is_absolute() ? fs::path(path) : dir / path;
+  if (!exists(p)) fail(nbs::detail::concat("not found (", p.string(), ")"));
+  return p;
+}
+
 namespace detail_urdf {
+
+/// Loads each (file, scale) once per URDF.
+struct MeshCache {
+  const std::filesystem::path& urdf;
+  const std::vector<std::filesystem::path>& package_roots;
+  std::map<std::pair<std::string, std::tuple<double, double, double>>, std::shared_ptr<const CollisionMesh>> loaded;
+
+  [[nodiscard]] std::shared_ptr<const CollisionMesh> get(const std::string& uri, const Vec3& scale,
+                                                         const std::string& link) {
+    const std::string what = nbs::detail::concat("link '", link, "'");
+    const std::filesystem::path p = resolve_mesh_uri(uri, urdf, package_roots, what);
+    auto& slot = loaded[{p.string(), std::make_tuple(scale.x(), scale.y(), scale.z())}];
+    if (slot) return slot;
+    try {
+      slot = std::make_shared<const CollisionMesh>(load_mesh(p.string()), scale, p.string());
+    } catch (const nbs::Error& e) {
+      throw FileError(nbs::detail::concat(urdf.string(), ": ", what, ": collision mesh '", uri, "': ", e.what()));
+    }
+    return slot;
+  }
+};
 
 [[nodiscard]] inline Pose to_pose(const urdf::Pose& p) {
   double x = 0, y = 0, z = 0, w = 1;
@@ -98,8 +186,9 @@ private:
   std::string text_;
 };
 
-/// The collision shapes of a URDF link, in the link frame.
-[[nodiscard]] inline std::vector<LinkShape> link_shapes(const urdf::Link& link, const std::string& file) {
+/// The collision shapes of a URDF link, in the link frame; meshes loaded through `meshes`.
+[[nodiscard]] inline std::vector<LinkShape> link_shapes(const urdf::Link& link, const std::string& file,
+                                                        MeshCache& meshes) {
   std::vector<LinkShape> out;
   for (const auto& c : link.collision_array) {
     if (!c || !c->geometry) continue;
@@ -128,6 +217,10 @@ private:
         s.kind = LinkShape::Kind::mesh;
         s.mesh_path = m.filename;
         s.size = Vec3(m.scale.x, m.scale.y, m.scale.z);
+        nbs::detail::require(s.size.allFinite() && (s.size.array() > 0).all(), file, ": link '", link.name,
+                             "': collision mesh '", m.filename, "' has scale (", s.size.transpose(),
+                             "); it must be finite and > 0 per axis");
+        s.mesh = meshes.get(m.filename, s.size, link.name);
         break;
       }
     }
@@ -150,10 +243,13 @@ public:
   /// (naming the file) if it cannot be read or parsed, InvalidArgument (naming the file and the link, joint or value)
   /// for a missing link, a flange not below the base, a sensor not rigidly below the flange, an unsupported joint
   /// type (floating, planar) or a mimic joint, a zero joint axis, NaN or inverted limits, a non-rigid `T_WB` or bad
-  /// `ik` settings.
+  /// `ik` settings. Collision meshes (STL, OBJ, PLY; `scale` applied) are loaded here, once each, found by
+  /// `resolve_mesh_uri` with `package_roots`; a missing, unreadable or malformed mesh or a scale that is not > 0
+  /// throws FileError / InvalidArgument naming the URDF, the link and the mesh file.
   [[nodiscard]] static UrdfRobot load(const std::filesystem::path& urdf, const std::string& base_link,
                                       const std::string& flange_link, const std::string& sensor_link,
-                                      const Pose& T_WB = Pose::Identity(), const IkSetting& ik = {});
+                                      const Pose& T_WB = Pose::Identity(), const IkSetting& ik = {},
+                                      const std::vector<std::filesystem::path>& package_roots = {});
 
   [[nodiscard]] std::size_t joint_count() const { return static_cast<std::size_t>(limits_.size()); }
   [[nodiscard]] JointLimits joint_limits() const { return limits_; }
@@ -241,7 +337,7 @@ private:
 
 inline UrdfRobot UrdfRobot::load(const std::filesystem::path& urdf, const std::string& base_link,
                                  const std::string& flange_link, const std::string& sensor_link, const Pose& T_WB,
-                                 const IkSetting& ik) {
+                                 const IkSetting& ik, const std::vector<std::filesystem::path>& package_roots) {
   using nbs::detail::concat;
   using nbs::detail::require;
   const std::string file = urdf.string();
@@ -293,11 +389,12 @@ inline UrdfRobot UrdfRobot::load(const std::filesystem::path& urdf, const std::s
     require(j->type == urdf::Joint::FIXED, file, ": sensor link '", sensor_link, "' is not rigidly attached to flange link '",
             flange_link, "': joint '", j->name, "' is not fixed");
 
+  detail_urdf::MeshCache meshes{urdf, package_roots, {}};
   UrdfRobot r;
   r.file_ = urdf;
   r.T_WB_ = T_WB;
   r.ik_ = ik;
-  r.links_.push_back({base_link, -1, detail_urdf::link_shapes(*base, file)});
+  r.links_.push_back({base_link, -1, detail_urdf::link_shapes(*base, file, meshes)});
   std::vector<double> lower, upper;
   for (auto it = joints.rbegin(); it != joints.rend(); ++it) {
     const urdf::Joint& j = **it;
@@ -331,7 +428,8 @@ inline UrdfRobot UrdfRobot::load(const std::filesystem::path& urdf, const std::s
       r.revolute_.push_back(!prismatic);
     }
     r.chain_.addSegment(KDL::Segment(j.child_link_name, kj, f));
-    r.links_.push_back({j.child_link_name, index, detail_urdf::link_shapes(*model->getLink(j.child_link_name), file)});
+    r.links_.push_back(
+        {j.child_link_name, index, detail_urdf::link_shapes(*model->getLink(j.child_link_name), file, meshes)});
   }
   r.limits_.lower = Eigen::Map<const JointVector>(lower.data(), static_cast<Eigen::Index>(lower.size()));
   r.limits_.upper = Eigen::Map<const JointVector>(upper.data(), static_cast<Eigen::Index>(upper.size()));
@@ -339,7 +437,7 @@ inline UrdfRobot UrdfRobot::load(const std::filesystem::path& urdf, const std::s
   for (auto it = sensor_joints.rbegin(); it != sensor_joints.rend(); ++it) {
     T_FL = T_FL * detail_urdf::to_pose((*it)->parent_to_joint_origin_transform);
     r.sensor_links_.emplace_back((*it)->child_link_name, T_FL);
-    r.sensor_link_shapes_.push_back(detail_urdf::link_shapes(*model->getLink((*it)->child_link_name), file));
+    r.sensor_link_shapes_.push_back(detail_urdf::link_shapes(*model->getLink((*it)->child_link_name), file, meshes));
   }
   r.T_FS_ = T_FL;
   return r;

@@ -13,10 +13,10 @@
 /// `nbs::LinkCollisionChecker(robot, space, setting)`: the link shapes against the space's voxels with p > 0.05
 /// (unknown included) and the table. It reads the space on every check, so it is always current after a scan and
 /// costs nothing to keep up to date; an FCL obstacle model (nbs::fcl) would have to be rebuilt from the space after
-/// every integration (an OctoMap export of every voxel of the unknown area), and its advantage — mesh link shapes —
-/// is unused while `Robot::collision_shapes` keeps meshes as unloaded paths. So no FCL here. Cost: one
-/// LinkCollisionChecker query per checked configuration (LWR: about 2 µs with no link near the voxels, up to about
-/// 1 ms with links inside a box of 5 mm voxels; docs/robot.md).
+/// every integration (an OctoMap export of every voxel of the unknown area), and LinkCollisionChecker checks mesh
+/// link shapes too (`LinkShape::mesh`, loaded by the robot model). So no FCL here. Cost: one LinkCollisionChecker
+/// query per checked configuration (LWR: about 2 µs with no link near the voxels, up to about 1 ms with links inside
+/// a box of 5 mm voxels; a mesh link costs O(triangles) per voxel near it; docs/robot.md).
 ///
 /// Linking with nbs::kdl (Debian's OMPL 1.5.2 and KDL 1.5.1): link nbs::kdl before nbs::ompl, else KDL's IK runs
 /// OMPL's exported copy of Eigen's JacobiSVD and aborts (docs/robot.md, "Transfer motions in joint space").
