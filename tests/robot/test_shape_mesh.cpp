@@ -9,9 +9,11 @@
 
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <utility>
 
+#include "nbs/robot/collision_mesh.hpp"
 #include "nbs/robot/shape_mesh.hpp"
 #include "nbs/robot/transfer.hpp"
 #include "planar_robot.hpp"
@@ -113,7 +115,7 @@ TEST_CASE("shape_mesh: sphere and capsule converge to the analytic volume from b
   }
 }
 
-TEST_CASE("shape_mesh: bad dimensions throw naming the link and append nothing; mesh shapes are skipped",
+TEST_CASE("shape_mesh: bad dimensions throw naming the link and append nothing; meshes drawn once loaded",
           "[robot][shape_mesh][bad-input]") {
   using K = LinkShape::Kind;
   IndexedMesh m = shapes_mesh({shape(K::sphere, 0.05, 0)});
@@ -128,7 +130,18 @@ TEST_CASE("shape_mesh: bad dimensions throw naming the link and append nothing; 
   PlacedShape file = shape(K::mesh, 0, 0, Vec3::Ones());
   file.shape.mesh_path = "package://arm/link.stl";
   append_shape_mesh(m, file);
-  CHECK(m.triangles == before.triangles);
+  CHECK(m.triangles == before.triangles);  // not loaded: nothing to draw
+  // Loaded: its triangles placed at T_WG (a 0.1 x 0.2 x 0.3 box mesh keeps its volume, its centre moves to T's).
+  const Pose T = Eigen::Translation3d(0.4, -0.1, 0.2) * Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized());
+  file.shape.mesh = std::make_shared<const CollisionMesh>(shapes_mesh({shape(K::box, 0, 0, Vec3(0.1, 0.2, 0.3))}));
+  file.T_WG = T;
+  IndexedMesh loaded;
+  append_shape_mesh(loaded, file);
+  REQUIRE(loaded.triangles.size() == 12);
+  CHECK(enclosed_volume(loaded) == Approx(0.1 * 0.2 * 0.3).epsilon(1e-9));
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& v : loaded.vertices) centre += v / static_cast<double>(loaded.vertices.size());
+  CHECK((centre - T.translation()).norm() < 1e-12);
   // The planar arm's three capsule links: three closed meshes, volumes add up.
   const test::PlanarArm arm;
   const IndexedMesh links = shapes_mesh(arm.collision_shapes(JointVector::Constant(3, 0.4)), 24);

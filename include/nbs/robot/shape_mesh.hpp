@@ -17,6 +17,7 @@
 
 #include "nbs/core/error.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
+#include "nbs/robot/collision_mesh.hpp"
 #include "nbs/robot/robot.hpp"
 
 namespace nbs {
@@ -59,8 +60,8 @@ inline void append_arc(std::vector<std::pair<double, double>>& p, double r, doub
 }
 }  // namespace detail
 
-/// Appends the triangles of `s` (world frame, metres) to `out` (vertices appended, indices offset); nothing for a
-/// mesh shape. `segments` ≥ 3 vertices per ring. Throws InvalidArgument naming the link and value for a
+/// Appends the triangles of `s` (world frame, metres) to `out` (vertices appended, indices offset); a mesh shape's
+/// loaded triangles as they are (three vertices each), nothing for one that was not loaded. `segments` ≥ 3 vertices per ring. Throws InvalidArgument naming the link and value for a
 /// negative, zero-size or non-finite dimension or a bad `segments` (nothing appended then).
 inline void append_shape_mesh(IndexedMesh& out, const PlacedShape& s, int segments = 24) {
   using K = LinkShape::Kind;
@@ -69,7 +70,16 @@ inline void append_shape_mesh(IndexedMesh& out, const PlacedShape& s, int segmen
   detail::require(s.T_WG.matrix().allFinite(), "append_shape_mesh: link ", s.link, ": shape pose not finite");
   const Pose T = s.T_WG;
   switch (g.kind) {
-    case K::mesh: return;
+    case K::mesh: {  // a loaded mesh as it is (not loaded: nothing to draw)
+      if (!g.mesh) return;
+      const auto base = static_cast<std::uint32_t>(out.vertices.size());
+      for (std::size_t t = 0; t < g.mesh->triangle_count(); ++t) {
+        for (int k = 0; k < 3; ++k) out.vertices.push_back(T * g.mesh->corner(t, k));
+        const auto v = base + static_cast<std::uint32_t>(3 * t);
+        out.triangles.push_back({v, v + 1, v + 2});
+      }
+      return;
+    }
     case K::box: {
       detail::require(g.size.allFinite() && (g.size.array() > 0.0).all(), "append_shape_mesh: link ", s.link,
                       ": box size (", g.size.transpose(), ") must be finite and > 0");
@@ -106,7 +116,7 @@ inline void append_shape_mesh(IndexedMesh& out, const PlacedShape& s, int segmen
 }
 
 /// The triangles of every shape in `shapes` (e.g. `robot.collision_shapes(q)`) in one mesh, world frame; see
-/// append_shape_mesh. Empty if no shape can be tessellated (a model without links, only mesh shapes).
+/// append_shape_mesh. Empty if no shape can be drawn (a model without links, only meshes that were not loaded).
 [[nodiscard]] inline IndexedMesh shapes_mesh(const std::vector<PlacedShape>& shapes, int segments = 24) {
   IndexedMesh m;
   for (const PlacedShape& s : shapes) append_shape_mesh(m, s, segments);
