@@ -158,7 +158,7 @@ struct ExplorationResult {
   ExplorationStop stop = ExplorationStop::max_steps;
 };
 
-namespace detail {
+namespace explore_detail {
 /// The points of `frame` with the given indices, as a Scan of the frame's first pose.
 [[nodiscard]] inline Scan sub_scan(const Scan& frame, std::span<const std::size_t> indices) {
   Scan out;
@@ -166,7 +166,7 @@ namespace detail {
   for (const std::size_t i : indices) out.add_point(frame.points[i], 0);
   return out;
 }
-}  // namespace detail
+}  // namespace explore_detail
 
 /// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise` of every cluster; the first
 /// cluster (in segmentation order) that is neither recognised nor inside the box of an object modeled before is
@@ -200,7 +200,7 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       c.box = h.box;
       c.centroid = h.centroid;
       c.points = h.points.size();
-      c.recognition = recogniser.recognise(h, detail::sub_scan(frame, h.indices));
+      c.recognition = recogniser.recognise(h, explore_detail::sub_scan(frame, h.indices));
       if (c.recognition.accepted) {
         c.state = ClusterState::recognised;
       } else {
