@@ -108,6 +108,17 @@ const Top kC{Vec3(-0.05, 0.15, 0.0), Vec3(0.03, 0.17, 0.04)};    // 8 x 2 cm, un
 
 FakeRecogniser knows_a() { return {{{"a", Vec3(0.06, 0.06, 0.05), Vec3(0.0, 0.0, 0.025)}}}; }
 
+/// The loop over a frame of `tops` with a recogniser that knows A.
+struct Run {
+  FakeRecogniser rec = knows_a();
+  FakeModeler modeler;
+  ExplorationResult r;
+  Run(const std::vector<Top>& tops, const ExplorationSetting& st, FakeModeler m = {}) : modeler(std::move(m)) {
+    FakeSource source{frame_of(tops)};
+    r = explore_scene(source, rec, modeler, st);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("explore_scene: the known object is recognised, the unknown one modeled, learned and recognised next step",
@@ -150,12 +161,9 @@ TEST_CASE("explore_scene: the known object is recognised, the unknown one modele
 
 TEST_CASE("explore_scene: the scan budget, an empty model and the step limit", "[scene][explore]") {
   SECTION("the budget is spent on the first unknown object; the second stays unexplained") {
-    FakeSource source{frame_of({kA, kB, kC})};
-    FakeRecogniser rec = knows_a();
-    FakeModeler modeler;
     ExplorationSetting st;
     st.scan_budget = 5;
-    const ExplorationResult r = explore_scene(source, rec, modeler, st);
+    const ExplorationResult r = Run({kA, kB, kC}, st).r;
     REQUIRE(r.steps.size() == 2);
     CHECK(r.stop == ExplorationStop::scan_budget);
     CHECK(r.scans == 5);
@@ -167,10 +175,10 @@ TEST_CASE("explore_scene: the scan budget, an empty model and the step limit", "
     CHECK(recognised == 2);
   }
   SECTION("a modeler that gives an empty mesh: nothing learned, the cluster is not modeled again") {
-    FakeSource source{frame_of({kA, kB})};
-    FakeRecogniser rec = knows_a();
-    FakeModeler modeler{.scans_per_object = 4, .empty = true, .budgets = {}};
-    const ExplorationResult r = explore_scene(source, rec, modeler);
+    const Run run({kA, kB}, {}, FakeModeler{.scans_per_object = 4, .empty = true, .budgets = {}});
+    const ExplorationResult& r = run.r;
+    const FakeRecogniser& rec = run.rec;
+    const FakeModeler& modeler = run.modeler;
     REQUIRE(r.steps.size() == 2);
     CHECK(r.stop == ExplorationStop::explained);
     CHECK(rec.models.size() == 1);
@@ -180,15 +188,12 @@ TEST_CASE("explore_scene: the scan budget, an empty model and the step limit", "
     CHECK(modeler.budgets.size() == 1);
   }
   SECTION("max_steps") {
-    FakeSource source{frame_of({kA, kB, kC})};
-    FakeRecogniser rec = knows_a();
-    FakeModeler modeler;
     ExplorationSetting st;
     st.max_steps = 1;
-    const ExplorationResult r = explore_scene(source, rec, modeler, st);
-    CHECK(r.steps.size() == 1);
-    CHECK(r.stop == ExplorationStop::max_steps);
-    CHECK(modeler.budgets == std::vector<int>{60});
+    const Run run({kA, kB, kC}, st);
+    CHECK(run.r.steps.size() == 1);
+    CHECK(run.r.stop == ExplorationStop::max_steps);
+    CHECK(run.modeler.budgets == std::vector<int>{60});
   }
 }
 
