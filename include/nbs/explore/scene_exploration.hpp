@@ -142,7 +142,7 @@ struct ExplorationSetting {
   scene::SegmentationSettings segmentation;
   int scan_budget = 60;                 ///< modeling scans over all objects, ≥ 1
   int max_steps = 8;                    ///< overview steps, ≥ 1
-  std::string name_prefix = "object_";  ///< learned models are named prefix + a number (the first free one from 1)
+  std::string name_prefix = "object_";  ///< learned models are named prefix + 1, 2, … in learning order
 
   void validate() const {
     segmentation.validate();

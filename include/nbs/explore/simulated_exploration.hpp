@@ -3,7 +3,7 @@
 /// \file
 /// The parts of the scene-exploration loop (scene_exploration.hpp) for a simulated or real scanner: an
 /// OverviewSource over any area-sensor ScanSimulator (a ring of views around the table), an ObjectModeler that runs
-/// NbsPlanner<> (method C_H, laser stripe profiler) with run_loop on the cluster's box, and a driver wrapper that
+/// `NbsPlanner<>` (method C_H, laser stripe profiler) with run_loop on the cluster's box, and a driver wrapper that
 /// feeds every scan into the scene's voxel space (the space v_h is validated against). nbs_explore wires them to
 /// Embree (nbs::embree::SceneScanner, SimulatedScanner). Include planner headers first (planner/detail/components.hpp).
 
@@ -86,7 +86,7 @@ struct OverviewRing {
   }
 };
 
-/// ObjectModeler: NbsPlanner<> (C_H, the DLR laser stripe profiler) over the hypothesis box, run_loop with a
+/// ObjectModeler: `NbsPlanner<>` (C_H, the DLR laser stripe profiler) over the hypothesis box, run_loop with a
 /// SimulatedDriver over `scanner` (noise seed seed + the object's number), every scan also into `space`; n_abort =
 /// min(object_scans, the budget left). The planner's own voxel space covers only the box: the neighbours occlude
 /// in the scans, but the planner does not predict their occlusion outside its box (nbs_planner has no shared space).
