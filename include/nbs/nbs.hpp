@@ -44,6 +44,9 @@
 #include "nbs/driver/replay_driver.hpp"
 #include "nbs/driver/simulated_driver.hpp"
 
+#include "nbs/explore/scene_exploration.hpp"
+#include "nbs/explore/simulated_exploration.hpp"
+
 #include "nbs/io/color.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/load_point_cloud.hpp"

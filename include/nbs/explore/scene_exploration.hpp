@@ -1,0 +1,380 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// \file
+/// The scene-exploration loop of the thesis (Sec. 3.1, Fig. 3.1; issue 21 item 5): overview frame → segmentation →
+/// recognition of every cluster against the model database → NBS modeling of one unexplained cluster (its box is the
+/// unknown area) → the new model into the database → next step (a new overview, everything re-recognised), until
+/// every cluster is explained, the scan budget is spent or the step limit is reached.
+///
+/// The loop is generic over three concepts: an `OverviewSource` (the area-sensor frames), an `ObjectRecogniser`
+/// (recognise a cluster, learn a new model) and an `ObjectModeler` (NBS modeling of one box). `PpfRecogniser`
+/// (recognition/ of this library: PPF voting, q_h, ICP, v_h against a voxel space, a `ModelDatabase`) is the
+/// recogniser of the thesis; the Embree wiring of the source and the modeler is in examples/nbs_explore.cpp.
+/// World frame, metres, radians.
+
+#include <algorithm>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nbs/core/error.hpp"
+#include "nbs/core/scan.hpp"
+#include "nbs/mesh/indexed_mesh.hpp"
+#include "nbs/recognition/hypothesis_validation.hpp"
+#include "nbs/recognition/hypothesis_verification.hpp"
+#include "nbs/recognition/model_database.hpp"
+#include "nbs/recognition/ppf_match.hpp"
+#include "nbs/recognition/refine_pose.hpp"
+#include "nbs/registration/scan_normals.hpp"
+#include "nbs/scene/segmentation.hpp"
+#include "nbs/sensor/area_sensor.hpp"
+#include "nbs/sim/ray_caster.hpp"
+#include "nbs/sim/surface_samples.hpp"
+
+namespace nbs::explore {
+
+/// The outcome of recognising one cluster: the best hypothesis over all database models (by q_h after ICP).
+struct Recognition {
+  std::string model;               ///< database name; empty if no model gave a hypothesis
+  Pose pose = Pose::Identity();    ///< T_WM (model frame → world)
+  double q_h = 0.0;                ///< Eq. 3.10, in [0, 1]
+  double v_h = 0.0;                ///< Eq. 3.11, in [0, 1]
+  bool accepted = false;           ///< q_h ≥ the recogniser's bound and v_h ≥ its bound (thesis: 0.66)
+};
+
+/// The outcome of NBS modeling of one cluster.
+struct ModelingResult {
+  IndexedMesh mesh;       ///< the model, world frame
+  double coverage = 0.0;  ///< ĉ_m after the last scan
+  int scans = 0;          ///< scans taken
+  bool done = false;      ///< the termination criterion was reached (else: scan budget or no candidates)
+};
+
+/// The overview frames: `overview(step)` is the area-sensor frame of step `step` (0-based; the source chooses the
+/// view, and feeds the frame into whatever voxel space its recogniser validates against).
+template <class S>
+concept OverviewSource = requires(S& s, int step) {
+  { s.overview(step) } -> std::same_as<Scan>;
+};
+
+/// Recognition against a growing database: `recognise(hypothesis, cluster)` with the cluster's points as a Scan of
+/// one frame (the frame's pose); `learn(name, mesh)` adds a model (model frame) to the database.
+template <class R>
+concept ObjectRecogniser = requires(R& r, const scene::ObjectHypothesis& h, const Scan& cluster, const std::string& name,
+                                    const IndexedMesh& mesh) {
+  { r.recognise(h, cluster) } -> std::same_as<Recognition>;
+  r.learn(name, mesh);
+};
+
+/// NBS modeling of the object in `hypothesis.box` with at most `max_scans` scans (≥ 1).
+template <class M>
+concept ObjectModeler = requires(M& m, const scene::ObjectHypothesis& h, int max_scans) {
+  { m.model(h, max_scans) } -> std::same_as<ModelingResult>;
+};
+
+/// What the loop concluded about a cluster in a step.
+enum class ClusterState : std::uint8_t {
+  recognised,   ///< a database model was accepted
+  modeling,     ///< modeled in this step
+  unexplained,  ///< not recognised, not modeled (yet)
+  modeled,      ///< not recognised, but its centroid lies in the box of an object modeled before (not modeled again)
+};
+
+[[nodiscard]] inline const char* to_string(ClusterState s) {
+  switch (s) {
+    case ClusterState::recognised: return "recognised";
+    case ClusterState::modeling: return "modeling";
+    case ClusterState::unexplained: return "unexplained";
+    case ClusterState::modeled: return "modeled";
+  }
+  return "?";
+}
+
+struct ClusterRecord {
+  Aabb box;                        ///< the hypothesis box (the unknown area for modeling)
+  Vec3 centroid = Vec3::Zero();
+  std::size_t points = 0;
+  Recognition recognition;
+  ClusterState state = ClusterState::unexplained;
+};
+
+/// A model the loop added to the database.
+struct LearnedModel {
+  std::string name;
+  Pose T_world_model = Pose::Identity();  ///< the model frame: a translation to the box's bottom centre
+  IndexedMesh mesh_world;                 ///< as modeled (world frame)
+  Aabb box;                               ///< the cluster's box it was modeled in
+  double coverage = 0.0;                  ///< ĉ_m at the end of its modeling
+  int scans = 0;
+  bool done = false;
+};
+
+/// One step of the loop.
+struct StepRecord {
+  int step = 0;                          ///< 0-based
+  Pose view = Pose::Identity();          ///< T_WS of the overview frame
+  std::size_t frame_points = 0;
+  scene::SegmentationStatus segmentation = scene::SegmentationStatus::ok;
+  std::vector<ClusterRecord> clusters;
+  int modeled_cluster = -1;              ///< index into clusters of the object modeled in this step, −1: none
+  std::optional<LearnedModel> learned;   ///< its model (also when the mesh came out empty: then not learned)
+};
+
+enum class ExplorationStop : std::uint8_t { explained, scan_budget, max_steps, no_plane };
+
+[[nodiscard]] inline const char* to_string(ExplorationStop s) {
+  switch (s) {
+    case ExplorationStop::explained: return "explained";
+    case ExplorationStop::scan_budget: return "scan_budget";
+    case ExplorationStop::max_steps: return "max_steps";
+    case ExplorationStop::no_plane: return "no_plane";
+  }
+  return "?";
+}
+
+struct ExplorationSetting {
+  scene::SegmentationSettings segmentation;
+  int scan_budget = 60;                 ///< modeling scans over all objects, ≥ 1
+  int max_steps = 8;                    ///< overview steps, ≥ 1
+  std::string name_prefix = "object_";  ///< learned models are named prefix + 1, 2, … in learning order
+
+  void validate() const {
+    segmentation.validate();
+    detail::require(scan_budget >= 1, "ExplorationSetting.scan_budget must be >= 1, got ", scan_budget);
+    detail::require(max_steps >= 1, "ExplorationSetting.max_steps must be >= 1, got ", max_steps);
+  }
+};
+
+struct ExplorationResult {
+  std::vector<StepRecord> steps;
+  std::vector<LearnedModel> learned;
+  int scans = 0;  ///< modeling scans taken
+  ExplorationStop stop = ExplorationStop::max_steps;
+};
+
+namespace explore_detail {
+/// The points of `frame` with the given indices, as a Scan of the frame's first pose.
+[[nodiscard]] inline Scan sub_scan(const Scan& frame, std::span<const std::size_t> indices) {
+  Scan out;
+  out.profile_poses = {frame.profile_poses.front()};
+  for (const std::size_t i : indices) out.add_point(frame.points[i], 0);
+  return out;
+}
+}  // namespace explore_detail
+
+/// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise` of every cluster; the first
+/// cluster (in segmentation order) that is neither recognised nor inside the box of an object modeled before is
+/// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
+/// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
+/// model (explained), when the budget is spent before a cluster could be modeled, after `max_steps` steps, or when a
+/// frame has no support plane. `on_step(record)` is called after each step. Throws InvalidArgument for an invalid
+/// setting, and what the source, recogniser or modeler throw.
+template <OverviewSource Source, ObjectRecogniser Recogniser, ObjectModeler Modeler, class OnStep>
+ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler& modeler,
+                                const ExplorationSetting& setting, OnStep&& on_step) {
+  setting.validate();
+  ExplorationResult out;
+  int next_name = 1;
+  for (int step = 0; step < setting.max_steps; ++step) {
+    const Scan frame = source.overview(step);
+    StepRecord rec;
+    rec.step = step;
+    rec.view = frame.profile_poses.empty() ? Pose::Identity() : frame.profile_poses.front();
+    rec.frame_points = frame.size();
+    const scene::Segmentation seg = scene::segment_scene(frame.points, setting.segmentation);
+    rec.segmentation = seg.status;
+    if (seg.status != scene::SegmentationStatus::ok) {
+      out.steps.push_back(std::move(rec));
+      on_step(out.steps.back());
+      out.stop = ExplorationStop::no_plane;
+      return out;
+    }
+    for (const scene::ObjectHypothesis& h : seg.objects) {
+      ClusterRecord c;
+      c.box = h.box;
+      c.centroid = h.centroid;
+      c.points = h.points.size();
+      c.recognition = recogniser.recognise(h, explore_detail::sub_scan(frame, h.indices));
+      if (c.recognition.accepted) {
+        c.state = ClusterState::recognised;
+      } else {
+        const bool seen = std::any_of(out.learned.begin(), out.learned.end(),
+                                      [&](const LearnedModel& m) { return m.box.contains(h.centroid); });
+        c.state = seen ? ClusterState::modeled : ClusterState::unexplained;
+      }
+      rec.clusters.push_back(std::move(c));
+    }
+    const auto todo = std::find_if(rec.clusters.begin(), rec.clusters.end(),
+                                   [](const ClusterRecord& c) { return c.state == ClusterState::unexplained; });
+    const bool budget_left = out.scans < setting.scan_budget;
+    if (todo != rec.clusters.end() && budget_left) {
+      const auto k = static_cast<std::size_t>(todo - rec.clusters.begin());
+      rec.modeled_cluster = static_cast<int>(k);
+      todo->state = ClusterState::modeling;
+      ModelingResult m = modeler.model(seg.objects[k], setting.scan_budget - out.scans);
+      out.scans += m.scans;
+      LearnedModel learned;
+      learned.box = seg.objects[k].box;
+      learned.T_world_model = Pose(Eigen::Translation3d(learned.box.center().x(), learned.box.center().y(),
+                                                        learned.box.min.z()));
+      learned.coverage = m.coverage;
+      learned.scans = m.scans;
+      learned.done = m.done;
+      learned.mesh_world = std::move(m.mesh);
+      if (!learned.mesh_world.triangles.empty()) {
+        learned.name = setting.name_prefix + std::to_string(next_name++);
+        IndexedMesh local = learned.mesh_world;
+        const Pose t_mw = learned.T_world_model.inverse();
+        for (Vec3& v : local.vertices) v = t_mw * v;
+        for (Vec3& n : local.normals) n = t_mw.linear() * n;
+        recogniser.learn(learned.name, local);
+      }
+      out.learned.push_back(learned);
+      rec.learned = std::move(learned);
+    }
+    out.steps.push_back(std::move(rec));
+    on_step(out.steps.back());
+    if (out.steps.back().modeled_cluster < 0) {
+      out.stop = todo == out.steps.back().clusters.end() ? ExplorationStop::explained : ExplorationStop::scan_budget;
+      return out;
+    }
+  }
+  out.stop = ExplorationStop::max_steps;
+  return out;
+}
+
+/// explore_scene without a step callback.
+template <OverviewSource Source, ObjectRecogniser Recogniser, ObjectModeler Modeler>
+ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler& modeler,
+                                const ExplorationSetting& setting = {}) {
+  return explore_scene(source, recogniser, modeler, setting, [](const StepRecord&) {});
+}
+
+/// Settings of PpfRecogniser.
+struct PpfRecogniserSetting {
+  PpfModelSetting model;                    ///< for the feature tables of learned models
+  PpfMatchSetting match;
+  std::size_t surface_samples = 20000;      ///< samples of a model's surface (its PPF table and ICP target)
+  std::size_t validation_vertices = 4000;   ///< of them, the first n are the vertices of v_h
+  std::uint64_t seed = 1;                   ///< surface sampling
+  double normal_radius_m = 0.006;           ///< scan normals of the cluster (estimate_scan_normals)
+  double tolerance_m = 0.005;               ///< depth tolerance of q_h
+  double min_q_h = 0.3;                     ///< least q_h of an accepted hypothesis
+  double min_v_h = 0.66;                    ///< least v_h (thesis: 0.66)
+  unsigned threads = 1;                     ///< rendering threads (the result does not depend on them)
+
+  void validate() const {
+    model.validate();
+    match.validate();
+    nbs::detail::require(surface_samples >= 100, "PpfRecogniserSetting.surface_samples must be >= 100, got ",
+                         surface_samples);
+    nbs::detail::require(validation_vertices >= 1, "PpfRecogniserSetting.validation_vertices must be >= 1, got ",
+                         validation_vertices);
+    nbs::detail::require_positive("PpfRecogniserSetting.normal_radius_m", normal_radius_m);
+    nbs::detail::require_non_negative("PpfRecogniserSetting.tolerance_m", tolerance_m);
+    nbs::detail::require(min_q_h >= 0.0 && min_q_h <= 1.0, "PpfRecogniserSetting.min_q_h must be in [0, 1], got ",
+                         min_q_h);
+    nbs::detail::require(min_v_h >= 0.0 && min_v_h <= 1.0, "PpfRecogniserSetting.min_v_h must be in [0, 1], got ",
+                         min_v_h);
+  }
+};
+
+/// The thesis's recogniser (Sec. 3.4) over a ModelDatabase: per database model PPF voting on the cluster (normals
+/// by estimate_scan_normals), every hypothesis verified by q_h (the model rendered with `Caster` into the cluster's
+/// range image of `sensor`), the best refined by ICP (refine_pose) and rated again; the best model by q_h is
+/// validated by v_h against `space` (borrowed; the caller integrates every scan into it). `learn` adds a model to the
+/// database (mesh + feature table + metadata, ModelDatabase::add). Borrows the database and the space.
+template <RayCaster Caster, OccupancyProbability Space>
+  requires std::constructible_from<Caster, const IndexedMesh&>
+class PpfRecogniser {
+public:
+  PpfRecogniser(ModelDatabase& database, const AreaSensor& sensor, const Space& space,
+                const PpfRecogniserSetting& setting = {})
+      : db_(&database), sensor_(sensor), space_(&space), setting_(setting) {
+    setting_.validate();
+    sensor_.validate();
+    for (const DatabaseModel& m : db_->models()) entries_.push_back(make_entry(m.mesh));
+  }
+
+  [[nodiscard]] const ModelDatabase& database() const { return *db_; }
+
+  [[nodiscard]] Recognition recognise(const scene::ObjectHypothesis&, const Scan& cluster) {
+    Recognition best;
+    if (cluster.empty() || entries_.empty()) return best;
+    const std::vector<Vec3> n = estimate_scan_normals(cluster, {.radius_m = setting_.normal_radius_m});
+    OrientedPoints scene;
+    for (std::size_t i = 0; i < cluster.size(); ++i)
+      if (n[i].squaredNorm() > 0.0) scene.points.push_back(cluster.points[i]), scene.normals.push_back(n[i]);
+    if (scene.size() < 3) return best;
+    const RangeImage image = range_image(sensor_, cluster.profile_poses.front(), cluster.points);
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+      const Entry& e = entries_[k];
+      const std::vector<PoseHypothesis> hyps = match_ppf(db_->models()[k].features, scene, setting_.match);
+      double q_best = -1.0;
+      Pose pose = Pose::Identity();
+      for (const PoseHypothesis& h : hyps) {
+        const double q = quality(e, h.pose, image);
+        if (q > q_best) q_best = q, pose = h.pose;
+      }
+      if (q_best < 0.0) continue;
+      const RefinedPose refined = refine_pose(e.samples, pose, cluster);
+      const double q_refined = refined.icp.applied() ? quality(e, refined.pose, image) : -1.0;
+      if (q_refined >= q_best) q_best = q_refined, pose = refined.pose;
+      if (q_best > best.q_h || best.model.empty()) {
+        best.model = db_->models()[k].metadata.name;
+        best.pose = pose;
+        best.q_h = q_best;
+      }
+    }
+    if (best.model.empty()) return best;
+    const Entry& e = *std::find_if(entries_.begin(), entries_.end(), [&](const Entry& x) { return x.name == best.model; });
+    const std::size_t nv = std::min(setting_.validation_vertices, e.samples.size());
+    best.v_h = validate_hypothesis(*space_, std::span<const Vec3>(e.samples.points.data(), nv), best.pose).v_h();
+    best.accepted = best.q_h >= setting_.min_q_h && best.v_h >= setting_.min_v_h;
+    return best;
+  }
+
+  /// Adds `mesh` (model frame) as `name` to the database (its PPF table built with setting.model) and to the
+  /// recogniser. Throws what ModelDatabase::add throws (nothing changes then).
+  void learn(const std::string& name, const IndexedMesh& mesh) {
+    Entry e = make_entry(mesh, name);
+    db_->add(ModelMetadata{name, 0.0, {}, {"nbs_explore"}}, mesh, PpfModel(e.samples, setting_.model));
+    entries_.push_back(std::move(e));
+  }
+
+private:
+  struct Entry {
+    std::string name;
+    OrientedPoints samples;  ///< model frame
+    Aabb box;
+    std::unique_ptr<Caster> caster;
+  };
+
+  [[nodiscard]] Entry make_entry(const IndexedMesh& mesh, std::string name = {}) const {
+    mesh.validate();
+    Entry e;
+    e.name = name.empty() ? db_->models()[entries_.size()].metadata.name : std::move(name);
+    e.samples = oriented_points(sample_surface(mesh, setting_.surface_samples, setting_.seed));
+    for (const Vec3& v : mesh.vertices) e.box.extend(v);
+    e.caster = std::make_unique<Caster>(mesh);
+    return e;
+  }
+
+  [[nodiscard]] double quality(const Entry& e, const Pose& pose, const RangeImage& image) const {
+    return verify_hypothesis(*e.caster, e.box, pose, image, setting_.tolerance_m, setting_.threads).q_h();
+  }
+
+  ModelDatabase* db_;
+  AreaSensor sensor_;
+  const Space* space_;
+  PpfRecogniserSetting setting_;
+  std::vector<Entry> entries_;
+};
+
+}  // namespace nbs::explore

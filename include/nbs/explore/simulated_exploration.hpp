@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// \file
+/// The parts of the scene-exploration loop (scene_exploration.hpp) for a simulated or real scanner: an
+/// OverviewSource over any area-sensor ScanSimulator (a ring of views around the table), an ObjectModeler that runs
+/// `NbsPlanner<>` (method C_H, laser stripe profiler) with run_loop on the cluster's box, and a driver wrapper that
+/// feeds every scan into the scene's voxel space (the space v_h is validated against). nbs_explore wires them to
+/// Embree (nbs::embree::SceneScanner, SimulatedScanner). Include planner headers first (planner/detail/components.hpp).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <thread>
+
+#include "nbs/planner/nbs_planner.hpp"
+#include "nbs/planner/simulation_loop.hpp"
+#include "nbs/driver/simulated_driver.hpp"
+#include "nbs/explore/scene_exploration.hpp"
+#include "nbs/mesh/conversion.hpp"
+#include "nbs/sensor/presets.hpp"
+
+namespace nbs::explore {
+
+/// A ScanDriver that integrates every acquired scan into `space` as well (borrowed): the scene's shared voxel space.
+template <ScanDriver Driver, VoxelSpace Space>
+struct SpaceSharingDriver {
+  Driver inner;
+  Space* space;
+  void move_to(const Pose& T_WS) { inner.move_to(T_WS); }
+  [[nodiscard]] Pose current_pose() const { return inner.current_pose(); }
+  Scan acquire(const LinearScanPath& path) {
+    Scan s = inner.acquire(path);
+    if (!s.empty()) (void)space->integrate(s);
+    return s;
+  }
+};
+
+/// Where OverviewRing looks from. World frame, metres, radians.
+struct OverviewRingSetting {
+  Vec3 target = Vec3(0.0, 0.0, 0.05);       ///< the point every view looks at (the table centre, a little above)
+  double distance_m = 0.75;                 ///< eye to target
+  double elevation_rad = 35.0 * std::numbers::pi / 180.0;
+  double first_azimuth_rad = -0.5 * std::numbers::pi;  ///< step 0 looks from −y
+  double step_azimuth_rad = 0.4 * std::numbers::pi;    ///< 72° further per step
+  int frames_per_step = 3;                  ///< odd, ≥ 1: the middle one is returned, all are integrated
+  double frame_spread_rad = 20.0 * std::numbers::pi / 180.0;  ///< azimuth between neighbouring frames of a step
+
+  void validate() const {
+    detail::require(target.allFinite(), "OverviewRingSetting.target must be finite");
+    detail::require_positive("OverviewRingSetting.distance_m", distance_m);
+    detail::require(std::abs(elevation_rad) < 0.5 * std::numbers::pi,
+                    "OverviewRingSetting.elevation_rad must be in (-pi/2, pi/2), got ", elevation_rad);
+    detail::require(frames_per_step >= 1 && frames_per_step % 2 == 1,
+                    "OverviewRingSetting.frames_per_step must be odd and >= 1, got ", frames_per_step);
+  }
+};
+
+/// OverviewSource: per step `frames_per_step` area-sensor frames around the target, all integrated into `space`
+/// (with the thesis's update model one frame leaves surface voxels below p = 0.75, so v_h needs several), the
+/// middle one returned. Frame i of the whole run uses noise seed seed · 1000 + i. Borrows scanner and space.
+template <class Scanner, VoxelSpace Space>
+  requires ScanSimulator<Scanner, AreaSensor>
+struct OverviewRing {
+  const Scanner* scanner;
+  AreaSensor sensor;
+  Space* space;
+  OverviewRingSetting setting;
+  std::uint64_t seed = 1;
+
+  Scan overview(int step) {
+    setting.validate();
+    Scan middle;
+    const int half = setting.frames_per_step / 2;
+    const double a0 = setting.first_azimuth_rad + step * setting.step_azimuth_rad, el = setting.elevation_rad;
+    for (int k = -half; k <= half; ++k) {
+      const double a = a0 + k * setting.frame_spread_rad;
+      const Vec3 eye = setting.target + setting.distance_m * Vec3(std::cos(el) * std::cos(a), std::cos(el) * std::sin(a),
+                                                                  std::sin(el));
+      const auto frame = static_cast<std::uint64_t>(step * setting.frames_per_step + k + half);
+      Scan s = scanner->scan(LinearScanPath(Viewpoint::look_at(eye, setting.target)), sensor, seed * 1000 + frame);
+      (void)space->integrate(s);
+      if (k == 0) middle = std::move(s);
+    }
+    return middle;
+  }
+};
+
+/// ObjectModeler: `NbsPlanner<>` (C_H, the DLR laser stripe profiler) over the hypothesis box, run_loop with a
+/// SimulatedDriver over `scanner` (noise seed seed + the object's number), every scan also into `space`; n_abort =
+/// min(object_scans, the budget left). The planner's own voxel space covers only the box: the neighbours occlude
+/// in the scans, but the planner does not predict their occlusion outside its box (nbs_planner has no shared space).
+template <class Scanner, VoxelSpace Space>
+  requires ScanSimulator<Scanner, LaserStripeProfiler>
+struct NbsObjectModeler {
+  const Scanner* scanner;
+  Space* space;
+  int object_scans = 20;
+  std::uint64_t seed = 1;
+  unsigned threads = 0;  ///< candidate evaluation (0: hardware concurrency; plans do not depend on it)
+  Parameters params{};
+  int objects = 0;  ///< modeled so far
+
+  ModelingResult model(const scene::ObjectHypothesis& h, int max_scans) {
+    detail::require(object_scans >= 1, "NbsObjectModeler.object_scans must be >= 1, got ", object_scans);
+    detail::require(max_scans >= 1, "NbsObjectModeler::model: max_scans must be >= 1, got ", max_scans);
+    Parameters p = params;
+    p.max_scans = std::min(object_scans, max_scans);
+    PlannerSetting ps;
+    ps.threads = threads > 0 ? threads : std::max(1U, std::thread::hardware_concurrency());
+    ps.seed = seed;
+    NbsPlanner<> planner(p, presets::dlr_lsp(), h.box, ps);
+    using Driver = SimulatedDriver<Scanner, LaserStripeProfiler>;
+    SpaceSharingDriver<Driver, Space> driver{Driver(*scanner, planner.sensor(), seed + static_cast<std::uint64_t>(++objects)),
+                                             space};
+    SimulationSetting ss;
+    ss.seed = seed;
+    ss.max_scans = p.max_scans;
+    const SimulationResult r = run_loop(planner, driver, ss);
+    ModelingResult m;
+    m.mesh = to_indexed_mesh(planner.mesh());
+    m.coverage = planner.estimated_coverage();
+    m.scans = static_cast<int>(r.records.size());
+    m.done = r.stop == LoopStop::done;
+    return m;
+  }
+};
+
+}  // namespace nbs::explore

@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The scene-exploration loop end to end with Embree (coarse settings): a seeded scene of the mug (in the database)
+// and the bunny (not), the Xtion at half resolution for the overviews, NBS modeling with at most 8 scans. Ground
+// truth: the scene generator's poses and meshes.
+#include "nbs/explore/simulated_exploration.hpp"  // planner headers first
+
+#include "nbs_catch.hpp"
+#include "nbs_temp_dir.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "nbs/embree/scene.hpp"
+#include "nbs/embree/scene_scanner.hpp"
+#include "nbs/io/load_mesh.hpp"
+#include "nbs/mesh/normalize.hpp"
+#include "nbs/scene/scene_generator.hpp"
+#include "nbs/sensor/presets.hpp"
+#include "nbs/sim/ground_truth.hpp"
+#include "nbs/space/probabilistic_voxel_space.hpp"
+
+using namespace nbs;
+using namespace nbs::explore;
+
+TEST_CASE("explore_scene with Embree: the mug is recognised, the bunny modeled, learned and recognised",
+          "[scene][explore][embree]") {
+  const auto t0 = std::chrono::steady_clock::now();
+  IndexedMesh bunny = load_mesh(std::string(NBS_DATA_DIR) + "/meshes/stanford-bunny.obj");
+  normalize_on_pedestal(bunny, 0.16, UpAxis::y);
+  const IndexedMesh mug = load_mesh(std::string(NBS_DATA_DIR) + "/meshes/test-objects/mug.obj");
+  scene::SceneSettings st;
+  st.min_gap_m = 0.03;
+  st.table_size_x_m = 0.6;
+  st.table_size_y_m = 0.45;
+  const std::vector<scene::ObjectSpec> specs{{"mug", mug}, {"bunny", bunny}};
+  const scene::SimulatedScene sc = scene::generate_scene(specs, st, 1);
+  const embree::SceneScanner overview_scanner(sc);
+  IndexedMesh objects = sc.objects[0].mesh;
+  {
+    const auto base = static_cast<std::uint32_t>(objects.vertices.size());
+    objects.vertices.insert(objects.vertices.end(), sc.objects[1].mesh.vertices.begin(), sc.objects[1].mesh.vertices.end());
+    for (const auto& t : sc.objects[1].mesh.triangles) objects.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  const embree::SimulatedScanner model_scanner(objects, embree::ScannerSettings{.pedestal_top_z_m = 0.0,
+                                                                             .ray_mode = embree::RayMode::packet});
+  using Space = ProbabilisticVoxelSpace<>;
+  Space space(0.005, Aabb{Vec3(-0.3, -0.225, -0.01), Vec3(0.3, 0.225, 0.3)});
+
+  nbs_test::TempDir dir("nbs_explore_test_");
+  ModelDatabase db = ModelDatabase::create(dir.path / "db");
+  PpfRecogniserSetting rs;
+  rs.surface_samples = 8000;
+  db.add({"mug", 0.0, {}, {}}, mug, PpfModel(oriented_points(sample_surface(mug, rs.surface_samples, 1)), rs.model));
+  AreaSensor xtion = presets::asus_xtion_pro();
+  xtion.width_px = 320, xtion.height_px = 240;
+  PpfRecogniser<embree::Scene, Space> recogniser(db, xtion, space, rs);
+  OverviewRing<embree::SimulatedScanner, Space> source{&overview_scanner.scanner(), xtion, &space, {}, 1};
+  NbsObjectModeler<embree::SimulatedScanner, Space> modeler{&model_scanner, &space, 8, 1, 0, {}, 0};
+  ExplorationSetting es;
+  es.scan_budget = 8;
+  es.max_steps = 4;
+  const ExplorationResult r = explore_scene(source, recogniser, modeler, es);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Which object is nearest to a recognised pose's origin (the true origins are 0.2 m or more apart).
+  const auto error_m = [](const Recognition& rec, const Pose& truth) {
+    return (rec.pose.translation() - truth.translation()).norm();
+  };
+  REQUIRE(r.steps.size() >= 2);
+  REQUIRE(r.learned.size() == 1);
+  const LearnedModel& learned = r.learned[0];
+  CHECK(db.find(learned.name) != nullptr);
+  CHECK(std::filesystem::is_directory(dir.path / "db" / learned.name));
+  // The learned model is the bunny: its box holds the bunny's origin; c_a of its mesh against the bunny.
+  CHECK(learned.box.contains(sc.objects[1].T_world_object.translation() + Vec3(0, 0, 0.01)));
+  GroundTruth::Setting gs;
+  gs.sample_density_per_m2 = 5e5;
+  const double c_a = GroundTruth(sc.objects[1].mesh, gs).completeness(learned.mesh_world.vertices).c_a();
+  // Step 0: the mug recognised within 30 mm; the last step: the mug and the learned bunny recognised within 30 mm.
+  double mug0 = 1.0, mug_last = 1.0, bunny_last = 1.0;
+  for (const ClusterRecord& c : r.steps.front().clusters)
+    if (c.state == ClusterState::recognised && c.recognition.model == "mug")
+      mug0 = std::min(mug0, error_m(c.recognition, sc.objects[0].T_world_object));
+  for (const ClusterRecord& c : r.steps.back().clusters) {
+    if (c.state != ClusterState::recognised) continue;
+    if (c.recognition.model == "mug") mug_last = std::min(mug_last, error_m(c.recognition, sc.objects[0].T_world_object));
+    if (c.recognition.model == learned.name)
+      bunny_last = std::min(bunny_last, error_m(c.recognition, learned.T_world_model));
+  }
+  std::printf("explore (mug known, bunny not, seed 1): %zu steps, stop %s, %d modeling scans; bunny ĉ_m %.3f, c_a %.3f; "
+              "mug error step 0 %.1f mm, last step %.1f mm; learned bunny %.1f mm; %.1f s\n",
+              r.steps.size(), to_string(r.stop), r.scans, learned.coverage, c_a, 1e3 * mug0, 1e3 * mug_last,
+              1e3 * bunny_last, wall);
+  CHECK(r.stop == ExplorationStop::explained);
+  CHECK(mug0 < 0.03);
+  CHECK(mug_last < 0.03);
+  CHECK(bunny_last < 0.03);
+  CHECK(c_a > 0.8);
+}

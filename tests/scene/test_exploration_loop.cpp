@@ -1,0 +1,219 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The scene-exploration loop (nbs/explore/scene_exploration.hpp) with a fake recogniser and modeler on a synthetic
+// overview frame: a table grid and box tops of known sizes. The fake recognises a cluster by its xy extent (the
+// "shape") against the models it knows, the fake modeler returns the box of the cluster's points; the oracle is
+// the sequence of steps the loop's rule gives for these scenes.
+#include "nbs_catch.hpp"
+
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nbs/explore/scene_exploration.hpp"
+#include "test_meshes.hpp"
+
+using namespace nbs;
+using namespace nbs::explore;
+
+namespace {
+
+struct Top {
+  Vec3 lo, hi;  ///< xy rectangle at height hi.z
+};
+
+/// A 0.6 × 0.6 m table grid at z = 0 (5 mm) and the tops of the given boxes (2 mm grid), seen from above.
+Scan frame_of(const std::vector<Top>& tops) {
+  Scan s;
+  s.profile_poses = {Pose(Eigen::Translation3d(0.0, 0.0, 1.0))};
+  for (double x = -0.3; x <= 0.3; x += 0.005)
+    for (double y = -0.3; y <= 0.3; y += 0.005) {
+      bool under = false;
+      for (const Top& t : tops) under |= x >= t.lo.x() && x <= t.hi.x() && y >= t.lo.y() && y <= t.hi.y();
+      if (!under) s.add_point(Vec3(x, y, 0.0), 0);
+    }
+  for (const Top& t : tops)
+    for (double x = t.lo.x(); x <= t.hi.x() + 1e-9; x += 0.002)
+      for (double y = t.lo.y(); y <= t.hi.y() + 1e-9; y += 0.002) s.add_point(Vec3(x, y, t.hi.z()), 0);
+  return s;
+}
+
+struct FakeSource {
+  Scan frame;
+  int calls = 0;
+  Scan overview(int step) {
+    CHECK(step == calls);
+    ++calls;
+    return frame;
+  }
+};
+
+Vec3 extent_of(std::span<const Vec3> pts) {
+  Aabb b;
+  for (const Vec3& p : pts) b.extend(p);
+  return b.max - b.min;
+}
+
+/// Knows models by name and xy extent; accepts a cluster whose xy extent is within 5 mm of a model's.
+struct FakeRecogniser {
+  struct Model {
+    std::string name;
+    Vec3 extent;
+    Vec3 center;  ///< of the model's box, model frame
+  };
+  std::vector<Model> models;
+  Recognition recognise(const scene::ObjectHypothesis& h, const Scan& cluster) {
+    CHECK(cluster.size() == h.points.size());
+    Recognition r;
+    const Vec3 e = extent_of(cluster.points);
+    for (const Model& m : models)
+      if (std::abs(m.extent.x() - e.x()) < 0.005 && std::abs(m.extent.y() - e.y()) < 0.005) {
+        r.model = m.name;
+        r.pose = Pose(Eigen::Translation3d(Vec3(h.centroid.x(), h.centroid.y(), 0.0) - Vec3(m.center.x(), m.center.y(), 0.0)));
+        r.q_h = 0.9;
+        r.v_h = 0.8;
+        r.accepted = true;
+      }
+    return r;
+  }
+  void learn(const std::string& name, const IndexedMesh& mesh) {
+    Aabb b = mesh.bounds();
+    models.push_back({name, b.max - b.min, b.center()});
+  }
+};
+
+/// Returns the box of the cluster's points (min(max_scans, scans_per_object) scans); `empty` gives an empty mesh.
+struct FakeModeler {
+  int scans_per_object = 5;
+  bool empty = false;
+  std::vector<int> budgets;
+  ModelingResult model(const scene::ObjectHypothesis& h, int max_scans) {
+    budgets.push_back(max_scans);
+    ModelingResult m;
+    m.scans = std::min(max_scans, scans_per_object);
+    m.done = m.scans == scans_per_object;
+    m.coverage = 0.9;
+    if (!empty) {
+      Aabb b;
+      for (const Vec3& p : h.points) b.extend(p);
+      m.mesh = test::box_mesh(Vec3(b.min.x(), b.min.y(), 0.0), b.max);
+    }
+    return m;
+  }
+};
+
+const Top kA{Vec3(-0.18, -0.03, 0.0), Vec3(-0.12, 0.03, 0.05)};  // 6 x 6 cm, known
+const Top kB{Vec3(0.05, -0.02, 0.0), Vec3(0.15, 0.02, 0.08)};    // 10 x 4 cm, unknown
+const Top kC{Vec3(-0.05, 0.15, 0.0), Vec3(0.03, 0.17, 0.04)};    // 8 x 2 cm, unknown
+
+FakeRecogniser knows_a() { return {{{"a", Vec3(0.06, 0.06, 0.05), Vec3(0.0, 0.0, 0.025)}}}; }
+
+/// The loop over a frame of `tops` with a recogniser that knows A.
+struct Run {
+  FakeRecogniser rec = knows_a();
+  FakeModeler modeler;
+  ExplorationResult r;
+  Run(const std::vector<Top>& tops, const ExplorationSetting& st, FakeModeler m = {}) : modeler(std::move(m)) {
+    FakeSource source{frame_of(tops)};
+    r = explore_scene(source, rec, modeler, st);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("explore_scene: the known object is recognised, the unknown one modeled, learned and recognised next step",
+          "[scene][explore]") {
+  FakeSource source{frame_of({kA, kB})};
+  FakeRecogniser rec = knows_a();
+  FakeModeler modeler;
+  std::vector<int> seen;
+  const ExplorationResult r =
+      explore_scene(source, rec, modeler, ExplorationSetting{}, [&](const StepRecord& s) { seen.push_back(s.step); });
+  REQUIRE(r.steps.size() == 2);
+  CHECK(seen == std::vector<int>{0, 1});
+  CHECK(r.stop == ExplorationStop::explained);
+  CHECK(r.scans == 5);
+  CHECK(modeler.budgets == std::vector<int>{60});
+  const StepRecord& s0 = r.steps[0];
+  REQUIRE(s0.clusters.size() == 2);  // ordered by smallest point index: A's top precedes B's in the frame
+  CHECK(s0.clusters[0].state == ClusterState::recognised);
+  CHECK(s0.clusters[0].recognition.model == "a");
+  CHECK(s0.clusters[0].recognition.pose.translation().isApprox(Vec3(-0.15, 0.0, 0.0), 1e-9));
+  CHECK(s0.clusters[1].state == ClusterState::modeling);
+  CHECK(s0.modeled_cluster == 1);
+  REQUIRE(s0.learned);
+  CHECK(s0.learned->name == "object_1");
+  CHECK(s0.learned->scans == 5);
+  // The model frame is at the bottom centre of B's hypothesis box (grown by the 1 cm margin, bottom on the plane).
+  CHECK(s0.learned->T_world_model.translation().isApprox(Vec3(0.10, 0.0, 0.0), 1e-6));
+  REQUIRE(rec.models.size() == 2);
+  CHECK(rec.models[1].extent.isApprox(Vec3(0.10, 0.04, 0.08), 1e-6));
+  const StepRecord& s1 = r.steps[1];
+  REQUIRE(s1.clusters.size() == 2);
+  CHECK(s1.modeled_cluster == -1);
+  CHECK(s1.clusters[1].state == ClusterState::recognised);
+  CHECK(s1.clusters[1].recognition.model == "object_1");
+  // The learned model placed by its recognised pose is where it was modeled.
+  const Pose placed = s1.clusters[1].recognition.pose;
+  CHECK((placed * rec.models[1].center - s0.learned->mesh_world.bounds().center()).head<2>().norm() < 1e-6);
+  REQUIRE(r.learned.size() == 1);
+}
+
+TEST_CASE("explore_scene: the scan budget, an empty model and the step limit", "[scene][explore]") {
+  SECTION("the budget is spent on the first unknown object; the second stays unexplained") {
+    ExplorationSetting st;
+    st.scan_budget = 5;
+    const ExplorationResult r = Run({kA, kB, kC}, st).r;
+    REQUIRE(r.steps.size() == 2);
+    CHECK(r.stop == ExplorationStop::scan_budget);
+    CHECK(r.scans == 5);
+    const auto& c = r.steps[1].clusters;
+    REQUIRE(c.size() == 3);
+    std::size_t unexplained = 0, recognised = 0;
+    for (const auto& x : c) unexplained += x.state == ClusterState::unexplained, recognised += x.state == ClusterState::recognised;
+    CHECK(unexplained == 1);
+    CHECK(recognised == 2);
+  }
+  SECTION("a modeler that gives an empty mesh: nothing learned, the cluster is not modeled again") {
+    const Run run({kA, kB}, {}, FakeModeler{.scans_per_object = 4, .empty = true, .budgets = {}});
+    const ExplorationResult& r = run.r;
+    const FakeRecogniser& rec = run.rec;
+    const FakeModeler& modeler = run.modeler;
+    REQUIRE(r.steps.size() == 2);
+    CHECK(r.stop == ExplorationStop::explained);
+    CHECK(rec.models.size() == 1);
+    REQUIRE(r.steps[0].learned);
+    CHECK(r.steps[0].learned->name.empty());
+    CHECK(r.steps[1].clusters[1].state == ClusterState::modeled);
+    CHECK(modeler.budgets.size() == 1);
+  }
+  SECTION("max_steps") {
+    ExplorationSetting st;
+    st.max_steps = 1;
+    const Run run({kA, kB, kC}, st);
+    CHECK(run.r.steps.size() == 1);
+    CHECK(run.r.stop == ExplorationStop::max_steps);
+    CHECK(run.modeler.budgets == std::vector<int>{60});
+  }
+}
+
+TEST_CASE("explore_scene: no plane stops the loop; invalid settings name the value", "[scene][explore]") {
+  Scan wall;
+  wall.profile_poses = {Pose::Identity()};
+  for (double y = 0.0; y < 0.3; y += 0.005)
+    for (double z = 0.0; z < 0.3; z += 0.005) wall.add_point(Vec3(0.5, y, z), 0);
+  FakeSource source{wall};
+  FakeRecogniser rec;
+  FakeModeler modeler;
+  const ExplorationResult r = explore_scene(source, rec, modeler);
+  REQUIRE(r.steps.size() == 1);
+  CHECK(r.stop == ExplorationStop::no_plane);
+  CHECK(r.steps[0].segmentation == scene::SegmentationStatus::no_plane);
+  CHECK(modeler.budgets.empty());
+  ExplorationSetting st;
+  st.scan_budget = 0;
+  CHECK_THROWS_WITH(explore_scene(source, rec, modeler, st), nbs_test::Contains("scan_budget must be >= 1, got 0"));
+  st = {};
+  st.max_steps = -2;
+  CHECK_THROWS_WITH(explore_scene(source, rec, modeler, st), nbs_test::Contains("max_steps must be >= 1, got -2"));
+}
