@@ -232,18 +232,9 @@ public:
   /// The chosen path's joint trajectory is PlanResult::joints. reselect() chooses again from the same scores.
   [[nodiscard]] PlanResult next_best_scan() {
     const auto t0 = std::chrono::steady_clock::now();
-    PlanResult out;
+    PlanResult out = started_plan();
     IterationStats& st = out.stats;
-    st.scans = scans_;
-    st.estimated_coverage = coverage_;
-    st.mean_density = density_;
-    const auto finish = [&](PlanStatus s) {
-      out.status = s;
-      st.mode = mode_;
-      st.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      last_stats_ = st;
-      return out;
-    };
+    const auto finish = [&](PlanStatus s) { return finished_plan(out, s, t0); };
     scores_.reset();
     if (done()) return finish(PlanStatus::done);
     if (mesh_->face_count() == 0) return finish(PlanStatus::nothing_seen_yet);
@@ -294,21 +285,14 @@ public:
   /// this call (reach checks, unreachable, best_utility, t_nbs_s).
   [[nodiscard]] PlanResult reselect() {
     const auto t0 = std::chrono::steady_clock::now();
-    PlanResult out;
-    IterationStats& st = out.stats;
-    st.scans = scans_;
-    st.estimated_coverage = coverage_;
-    st.mean_density = density_;
-    st.mode = mode_;
-    out.status = PlanStatus::no_candidates;
+    PlanResult out = started_plan();
+    PlanStatus status = PlanStatus::no_candidates;
     if (scores_ && !pool_.empty()) {
-      st.evaluated = pool_.size();
+      out.stats.evaluated = pool_.size();
       const std::vector<std::size_t> top = top_indices(std::span<const double>(*scores_), 1);
-      if (!top.empty()) out.status = take(top.front(), out);
+      if (!top.empty()) status = take(top.front(), out);
     }
-    st.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    last_stats_ = st;
-    return out;
+    return finished_plan(out, status, t0);
   }
 
   /// Can the planner's robot fly `path` from its current configuration, links checked against the voxel space
@@ -484,6 +468,23 @@ private:
     ++st.unreachable;
     ++st.unreachable_by_failure[static_cast<std::size_t>(f)];
     return true;
+  }
+
+  /// A plan with the model's state in its stats (n_s, ĉ_m, d̄_m).
+  [[nodiscard]] PlanResult started_plan() const {
+    PlanResult out;
+    out.stats.scans = scans_;
+    out.stats.estimated_coverage = coverage_;
+    out.stats.mean_density = density_;
+    return out;
+  }
+  /// `out` with status `s`, the mode and t_nbs since `t0`; kept as last_stats().
+  PlanResult finished_plan(PlanResult& out, PlanStatus s, std::chrono::steady_clock::time_point t0) {
+    out.status = s;
+    out.stats.mode = mode_;
+    out.stats.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    last_stats_ = out.stats;
+    return out;
   }
 
   /// Takes the chosen candidate out of S into `out` (scores_ = the values of S, `first` = the utility's choice):
