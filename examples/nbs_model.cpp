@@ -197,6 +197,7 @@ struct Row {
   /// --robot: the arm's transfer to this scan's start (0 for the first scan): joint-space length Σ‖Δq‖ (rad), the
   /// sensor's path along it (m), motion-planning time (s).
   double transfer_rad = 0.0, transfer_m = 0.0, t_motion = 0.0;
+  int transfer_failures = 0;  ///< --robot: failed transfers to other candidates before this scan's
 };
 
 /// c_obs with the simulated scanner's own rule (its working range, any incidence), as nbs_eval computes it.
@@ -242,6 +243,7 @@ std::string_view stop_name(nbs::LoopStop s) {
     case nbs::LoopStop::max_scans: return "n_abort scans reached";
     case nbs::LoopStop::no_candidates: return "no candidate left";
     case nbs::LoopStop::transfer_failed: return "transfer failed (the arm found no motion to the chosen scan's start)";
+    case nbs::LoopStop::no_reachable_candidate: return "no reachable candidate (the arm can fly none of S)";
   }
   return "?";
 }
@@ -299,6 +301,16 @@ int run(const Options& opt) {
   }
   RuntimePlanner planner(opt.method, params, lsp, unknown, ps, models);
   if (robot) planner.set_robot(robot->robot, robot->start, robot->setting);
+  int first = 0;  // --robot: the seeded initial path or the next one the arm can fly, checked before any work
+  try {
+    first = reachable_initial_index(planner, opt.seed, std::nullopt);
+    if (first != random_initial_scan_index(opt.seed))
+      std::printf("first   initial path %d (the seeded %d is out of the arm's reach)\n", first,
+                  random_initial_scan_index(opt.seed));
+  } catch (const Error& e) {
+    std::cerr << "nbs_model: --robot: " << e.what() << "\n";
+    return tools::kUsageExit;
+  }
   const std::string code = planner.code();
   std::printf("planner %s, n_abort %d, unknown area %.3f x %.3f x %.3f m, voxel %.1f mm, seed %llu, %u threads\n",
               code.c_str(), params.max_scans, unknown.extent().x(), unknown.extent().y(), unknown.extent().z(),
@@ -349,6 +361,7 @@ int run(const Options& opt) {
       r.transfer_rad = transfer->joint_length_rad;
       r.transfer_m = transfer->sensor_length_m;
       r.t_motion = transfer->t_plan_s;
+      r.transfer_failures = transfer->failed_attempts;
     }
     if (i == 0) r.mode = "init";
     rows.push_back(r);
@@ -368,7 +381,6 @@ int run(const Options& opt) {
   };
 
   // First scan: one of the 13 initial paths, chosen by the seed (Sec. 4.7.2).
-  const int first = random_initial_scan_index(opt.seed);
   {
     const LinearScanPath p0 = planner.initial_scan(first);
     std::optional<ArmPicture> arm;  // --robot: the arm at the first path's start (IK from the start joints), else
@@ -397,7 +409,7 @@ int run(const Options& opt) {
     PlanResult plan = planner.next_best_scan();
     last = plan.status;
     if (!plan.ok()) {
-      stop = plan.status == PlanStatus::done ? LoopStop::done : LoopStop::no_candidates;
+      stop = loop_stop(plan.status);
       break;
     }
     // The candidate set S of this step with utilities: the chosen one (its utility from the planner) and the rest
@@ -419,7 +431,10 @@ int run(const Options& opt) {
     write_candidates_ply(file(opt, numbered("candidates", n, "ply")), paths, utility);
     if (viewer) viewer->add_candidates(n, paths, utility);
     std::optional<TransferRecord> transfer;
-    if (transfer_planner) transfer = plan_scan_transfer(planner, *transfer_planner, plan);
+    if (transfer_planner)  // a failed transfer excludes its candidate; the next best is tried (run_loop's rule)
+      transfer = transfer_with_retries(planner, plan, robot->transfer_retries, [&](const PlanResult& p) {
+        return std::optional<TransferRecord>(plan_scan_transfer(planner, *transfer_planner, p));
+      });
     std::optional<ArmPicture> arm;  // --robot: the arm at the chosen path's start, the transfer to it (if planned)
     if (robot && (opt.images || viewer))
       arm = arm_picture(robot->robot, plan.joints.empty() ? planner.robot_configuration() : plan.joints.front(),
@@ -433,7 +448,7 @@ int run(const Options& opt) {
     if (transfer) {
       if (!transfer->ok()) {
         stop = LoopStop::transfer_failed;
-        transfer_failure = transfer->failure;
+        transfer_failure = transfer->failure + " (" + std::to_string(transfer->failed_attempts) + " tries)";
         break;
       }
     }
@@ -507,6 +522,7 @@ int run(const Options& opt) {
     se["transfer_joint_rad"] = series([](const Row& r) { return r.transfer_rad; });
     se["transfer_sensor_m"] = series([](const Row& r) { return r.transfer_m; });
     se["t_motion_s"] = series([](const Row& r) { return r.t_motion; });
+    se["transfer_failures"] = series([](const Row& r) { return r.transfer_failures; });
   }
   auto& fi = js["final"];
   fi["c_a"] = fin.c_a;

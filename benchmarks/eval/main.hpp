@@ -138,6 +138,8 @@ private:
   if (o.robot.active())
     j["robot"] = Json{{"urdf", o.robot.urdf},
                       {"links", {o.robot.base_link, o.robot.flange_link, o.robot.sensor_link}}};
+  if (o.robot.active() && o.robot.transfer_cost != 0.0) j["robot"]["transfer_cost"] = o.robot.transfer_cost;
+  if (o.robot.active() && o.robot.transfer_retries != 5) j["robot"]["transfer_retries"] = o.robot.transfer_retries;
   return j;
 }
 

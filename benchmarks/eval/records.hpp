@@ -52,6 +52,9 @@ struct ScanRow {
   double transfer_joint_rad = 0;  ///< joint-space length Σ‖Δq‖, rad
   double transfer_sensor_m = 0;   ///< the sensor's path length along it (fk), m
   double t_motion_s = 0;          ///< motion-planning time of the transfer, s
+  /// Failed transfers to other candidates before this scan's (TransferRecord::failed_attempts; each excluded its
+  /// candidate and the next best was tried).
+  int transfer_failures = 0;
 };
 
 /// One (method, run) of the experiment.
@@ -105,6 +108,7 @@ struct RunRecord {
     col("transfer_joint_rad", [](const ScanRow& x) { return x.transfer_joint_rad; });
     col("transfer_sensor_m", [](const ScanRow& x) { return x.transfer_sensor_m; });
     col("t_motion_s", [](const ScanRow& x) { return x.t_motion_s; });
+    col("transfer_failures", [](const ScanRow& x) { return x.transfer_failures; });
   }
   Json j{{"method", r.method}, {"run", r.run},     {"seed", r.seed}, {"initial_index", r.initial_index},
          {"n_abort", r.n_abort}, {"n_s", r.n_s},   {"stop", r.stop}, {"c_obs", r.c_obs},
@@ -152,7 +156,7 @@ struct RunRecord {
     for (std::size_t i = 0; i < n; ++i)
       r.scans[i].unreachable_candidates = s["unreachable_candidates"][i].get<std::size_t>();
     // The transfer columns (absent in files written before they existed: left 0).
-    for (const char* key : {"transfer_joint_rad", "transfer_sensor_m", "t_motion_s"})
+    for (const char* key : {"transfer_joint_rad", "transfer_sensor_m", "t_motion_s", "transfer_failures"})
       if (s.contains(key) && s.at(key).size() != n)
         throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
     if (s.contains("transfer_joint_rad"))
@@ -161,6 +165,8 @@ struct RunRecord {
         r.scans[i].transfer_sensor_m = s.at("transfer_sensor_m")[i].get<double>();
         r.scans[i].t_motion_s = s.at("t_motion_s")[i].get<double>();
       }
+    if (s.contains("transfer_failures"))
+      for (std::size_t i = 0; i < n; ++i) r.scans[i].transfer_failures = s["transfer_failures"][i].get<int>();
   }
   r.pose = j.contains("double_surface_share");
   if (r.pose) {

@@ -145,6 +145,7 @@ struct RunContext {
       row.transfer_joint_rad = r.transfer->joint_length_rad;
       row.transfer_sensor_m = r.transfer->sensor_length_m;
       row.t_motion_s = r.transfer->t_plan_s;
+      row.transfer_failures = r.transfer->failed_attempts;
     }
     if (ctx.pose.active()) {
       const RegistrationResult& reg = r.integration.registration;
@@ -170,7 +171,9 @@ struct RunContext {
   sim.seed = seed;
   sim.max_scans = ctx.n_abort;
   // --robot: the arm's transfers between scans are planned (OMPL, against the voxel space after each scan) and
-  // recorded; a failed one ends the run ("transfer_failed").
+  // recorded; a failed one excludes its candidate, the next best is tried (--transfer-retries); when all fail the
+  // run ends ("transfer_failed").
+  if (ctx.robot) sim.transfer_retries = ctx.robot->transfer_retries;
   const SimulationResult res = ctx.robot ? run_loop(planner, driver, tools::transfer_planner(*ctx.robot), sim, on_scan)
                                          : run_loop(planner, driver, sim, on_scan);
   if (ctx.pose.active()) {

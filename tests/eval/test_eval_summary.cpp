@@ -653,11 +653,14 @@ TEST_CASE("robot summary columns from a hand-made runs.jsonl: mean transfer leng
       R"("scans":{"c_m":[0,0,0],"d_m":[0,0,0],"c_a":[0.5,0.6,0.7],"c_b":[0,0,0],"e_bar_m":[0,0,0],)"
       R"("l_s_m":[0.1,0.2,0.3],"t_nbs_s":[0,1,1],"candidates":[0,1,1],"mode":["init","BS","BS"],)"
       R"("unreachable_candidates":[0,0,1],"transfer_joint_rad":[0,0.5,0.5],"transfer_sensor_m":[0,0.1,0.3],)"
-      R"("t_motion_s":[0,0.004,0.002]}})"};
+      R"("t_motion_s":[0,0.004,0.002],"transfer_failures":[0,2,0]}})"};
   std::vector<nbs::eval::RunRecord> records;
   for (const char* l : lines) records.push_back(nbs::eval::record_from_json(Json::parse(l)));
   REQUIRE(records[0].robot);
   CHECK(records[1].scans[2].transfer_sensor_m == 0.3);
+  CHECK(records[1].scans[1].transfer_failures == 2);  // read back and written again (the round trip below)
+  CHECK(records[0].scans[1].transfer_failures == 0);  // a file written before the column: 0
+  CHECK(nbs::eval::to_json(records[1]).at("scans").at("transfer_failures") == Json::parse("[0,2,0]"));
   CHECK(nbs::eval::to_json(nbs::eval::record_from_json(nbs::eval::to_json(records[1]))) ==
         nbs::eval::to_json(records[1]));
   const nbs::eval::RunOutcome o0 = nbs::eval::outcome(records[0]);

@@ -15,6 +15,7 @@
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "support/analytic_scanner.hpp"
+#include "support/loop_settings.hpp"
 #include "support/same_plan.hpp"
 
 namespace {
@@ -25,18 +26,8 @@ using nbs::Vec3;
 using nbs::test::light_lsp;
 using nbs::test::sphere_box;
 
-nbs::PlannerSetting setting(unsigned threads) {
-  nbs::PlannerSetting s;
-  s.threads = threads;
-  return s;
-}
-
-nbs::SimulationSetting loop_setting(std::uint64_t seed, int max_scans) {
-  nbs::SimulationSetting sim;
-  sim.seed = seed;
-  sim.max_scans = max_scans;
-  return sim;
-}
+using nbs::test::loop_setting;
+using nbs::test::setting;
 
 using nbs::test::check_same_plan;
 

@@ -9,6 +9,9 @@
 #include <memory>
 #include <string>
 #include <optional>
+#include <sstream>
+#include <span>
+#include <vector>
 #include <utility>
 
 #include "nbs/planner/nbs_planner.hpp"
@@ -16,6 +19,7 @@
 #include "nbs/robot/free_flying.hpp"
 #include "nbs/robot/transfer.hpp"
 #include "support/analytic_scanner.hpp"
+#include "support/loop_settings.hpp"
 #include "support/same_plan.hpp"
 
 namespace {
@@ -50,21 +54,12 @@ struct HalfSpaceFlyer {
 static_assert(nbs::Robot<HalfSpaceFlyer>);
 
 
-nbs::PlannerSetting setting(unsigned threads) {
-  nbs::PlannerSetting s;
-  s.threads = threads;
-  return s;
-}
-nbs::SimulationSetting sim(std::uint64_t seed, int max_scans) {
-  nbs::SimulationSetting s;
-  s.seed = seed;
-  s.max_scans = max_scans;
-  return s;
-}
+using nbs::test::loop_setting;
+using nbs::test::setting;
 const nbs::JointVector kStart = nbs::JointVector::Zero(6);
 
-/// A TransferPlanner that records every call and fails from call `fail_at` on (1-based; 0: never): its path is the
-/// straight motion from → to, its sensor length the FreeFlyingSensor's straight distance.
+/// A TransferPlanner that records every call and fails calls fail_at, …, fail_at + fail_count − 1 (1-based; 0: never):
+/// its path is the straight motion from → to, its sensor length the FreeFlyingSensor's straight distance.
 struct RecordingTransfer {
   struct Call {
     nbs::JointVector from, to;
@@ -72,12 +67,14 @@ struct RecordingTransfer {
   };
   std::shared_ptr<std::vector<Call>> calls = std::make_shared<std::vector<Call>>();
   int fail_at = 0;
+  int fail_count = 1 << 30;
   [[nodiscard]] std::size_t joint_count() const { return 6; }
   template <nbs::VoxelSpace Space>
   [[nodiscard]] nbs::TransferPlan plan(const nbs::JointVector& from, const nbs::JointVector& to, const Space&) const {
     calls->push_back({from, to, 0});
     nbs::TransferPlan p;
-    if (fail_at > 0 && static_cast<int>(calls->size()) >= fail_at) {
+    const int n = static_cast<int>(calls->size());
+    if (fail_at > 0 && n >= fail_at && n - fail_at < fail_count) {
       p.failure = "test: no motion";
       return p;
     }
@@ -89,6 +86,28 @@ struct RecordingTransfer {
 static_assert(nbs::TransferPlanner<RecordingTransfer, nbs::ProbabilisticVoxelSpace<>>);
 static_assert(nbs::TransferPlanner<nbs::NoTransfer, nbs::ProbabilisticVoxelSpace<>>);
 
+/// A utility of hand-computable values: u = 1 + z of the path's start (metres), the largest first.
+struct StartHeightUtility {
+  template <class Sensor, class Space>
+  [[nodiscard]] nbs::EvaluationResult evaluate(std::span<const nbs::LinearScanPath> paths, const Sensor&,
+                                               const Space&, const nbs::UtilityContext&,
+                                               const nbs::EvaluationSetting&) const {
+    nbs::EvaluationResult r;
+    for (const nbs::LinearScanPath& p : paths) r.values.push_back(1.0 + p.start().position().z());
+    r.refined.assign(paths.size(), 1);
+    r.rays.assign(paths.size(), 0);
+    r.voxels.assign(paths.size(), 0);
+    if (paths.empty()) return r;
+    r.status = nbs::EvaluationStatus::ok;
+    r.best = nbs::top_indices(r.values, 1).front();
+    return r;
+  }
+};
+using HeightPlanner =
+    nbs::NbsPlanner<StartHeightUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler, nbs::NoCollisions,
+                    nbs::DefaultTermination, nbs::ProbabilisticVoxelSpace<>, nbs::NoiseRobustStreamingMesh,
+                    nbs::UnseenLoopCoverage, nbs::NoRegistration, nbs::RobotReach<nbs::FreeFlyingSensor>>;
+
 }  // namespace
 
 TEST_CASE("robot planner: FreeFlyingSensor gives the default planner's plans bit for bit, over thread counts",
@@ -97,8 +116,8 @@ TEST_CASE("robot planner: FreeFlyingSensor gives the default planner's plans bit
   nbs::NbsPlanner<> plain({}, light_lsp(), sphere_box(), setting(1));
   nbs::RobotPlanner<nbs::FreeFlyingSensor> flying({}, light_lsp(), sphere_box(), setting(2));
   flying.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
-  const auto a = nbs::run_simulation(plain, sphere, sim(3, 5));
-  const auto b = nbs::run_simulation(flying, sphere, sim(3, 5));
+  const auto a = nbs::run_simulation(plain, sphere, loop_setting(3, 5));
+  const auto b = nbs::run_simulation(flying, sphere, loop_setting(3, 5));
   REQUIRE(a.records.size() >= 3);
   nbs::test::check_same_plan(a, b);
   for (std::size_t i = 1; i < b.records.size(); ++i) {
@@ -119,8 +138,14 @@ TEST_CASE("robot planner: a path the robot cannot fly is never returned; same pl
   nbs::RobotPlanner<HalfSpaceFlyer> p2({}, light_lsp(), sphere_box(), setting(2));
   p1.robot = nbs::RobotReach<HalfSpaceFlyer>(robot, kStart);
   p2.robot = p1.robot;
-  const auto a = nbs::run_simulation(p1, sphere, sim(3, 6));
-  const auto b = nbs::run_simulation(p2, sphere, sim(3, 6));
+  nbs::SimulationSetting sim = loop_setting(3, 6);
+  for (int i = nbs::kInitialScanPathCount - 1; i >= 0; --i) {  // a first scan the robot can fly (x <= 0)
+    const nbs::LinearScanPath path = p1.initial_scan(i);
+    if (path.start().position().x() <= 0.0 && path.end_position().x() <= 0.0) sim.initial_index = i;
+  }
+  REQUIRE(sim.initial_index.has_value());
+  const auto a = nbs::run_simulation(p1, sphere, sim);
+  const auto b = nbs::run_simulation(p2, sphere, sim);
   nbs::test::check_same_plan(a, b);
   REQUIRE(a.records.size() >= 3);
   std::size_t unreachable = 0;
@@ -165,13 +190,15 @@ TEST_CASE("robot planner: the unreachable count of a step is exact; nothing reac
   CHECK(none.stats.reach_rotated == 0);
   CHECK(blocked.candidate_set().empty());
   CHECK(std::string(nbs::to_string(none.status)).find("no reachable candidate") != std::string::npos);
-  // The loop ends on it, not in an endless loop.
+  // The loop ends on it, not in an endless loop (a robot that flies only the first scan's path).
   nbs::RobotPlanner<HalfSpaceFlyer> looped({}, light_lsp(), sphere_box(), s);
-  looped.robot = blocked.robot;
-  const auto run = nbs::run_simulation(looped, sphere, sim(3, 30));
+  const nbs::LinearScanPath p0 = looped.initial_scan(nbs::random_initial_scan_index(3));
+  looped.robot = nbs::RobotReach<HalfSpaceFlyer>(
+      HalfSpaceFlyer{1e9, false, std::pair{p0.start().position(), p0.end_position()}}, kStart);
+  const auto run = nbs::run_simulation(looped, sphere, loop_setting(3, 30));
   CHECK(run.records.size() == 1);
   CHECK(run.last_plan == nbs::PlanStatus::no_reachable_candidate);
-  CHECK(run.stop == nbs::LoopStop::no_candidates);
+  CHECK(run.stop == nbs::LoopStop::no_reachable_candidate);
 }
 
 TEST_CASE("robot planner: candidates of S the robot cannot fly now are refused at the choice, counted and removed",
@@ -225,8 +252,8 @@ TEST_CASE("robot loop: NoTransfer changes no plan; each transfer runs from the l
   const nbs::test::SphereOnPedestal sphere;
   nbs::NbsPlanner<> plain({}, light_lsp(), sphere_box(), setting(1));
   nbs::NbsPlanner<> free_loop({}, light_lsp(), sphere_box(), setting(1));
-  const auto a = nbs::run_simulation(plain, sphere, sim(3, 4));
-  const auto b = nbs::run_simulation(free_loop, sphere, nbs::NoTransfer{}, sim(3, 4));
+  const auto a = nbs::run_simulation(plain, sphere, loop_setting(3, 4));
+  const auto b = nbs::run_simulation(free_loop, sphere, nbs::NoTransfer{}, loop_setting(3, 4));
   nbs::test::check_same_plan(a, b);
   REQUIRE(b.records.size() == 4);
   CHECK_FALSE(a.records[1].transfer.has_value());  // run_loop without a transfer planner records none
@@ -244,7 +271,7 @@ TEST_CASE("robot loop: NoTransfer changes no plan; each transfer runs from the l
   nbs::RobotPlanner<nbs::FreeFlyingSensor> flying({}, light_lsp(), sphere_box(), setting(1));
   flying.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
   const RecordingTransfer rec;
-  const auto c = nbs::run_simulation(flying, sphere, rec, sim(3, 4));
+  const auto c = nbs::run_simulation(flying, sphere, rec, loop_setting(3, 4));
   nbs::test::check_same_plan(a, c);
   REQUIRE(rec.calls->size() == 3);
   const nbs::FreeFlyingSensor fly;
@@ -263,23 +290,179 @@ TEST_CASE("robot loop: NoTransfer changes no plan; each transfer runs from the l
         Approx(2.0 * std::sqrt(6.0)).epsilon(1e-15));
 }
 
-TEST_CASE("robot loop: a failed transfer stops the loop with transfer_failed; the candidate is not scanned",
+TEST_CASE("robot loop: a failed transfer excludes its candidate, the next best is tried; all failing stops the loop",
           "[planner][robot][transfer]") {
   const nbs::test::SphereOnPedestal sphere;
-  nbs::RobotPlanner<nbs::FreeFlyingSensor> p({}, light_lsp(), sphere_box(), setting(1));
+  nbs::PlannerSetting s = setting(1);
+  s.refine = nbs::CoarseToFine{1, 1};  // every candidate scored with the full sampling: values comparable one by one
+  nbs::RobotPlanner<nbs::FreeFlyingSensor> p({}, light_lsp(), sphere_box(), s);
   p.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
-  RecordingTransfer rec;
-  rec.fail_at = 2;  // the transfer to scan 3 fails
-  int callbacks = 0;
-  const auto r = nbs::run_simulation(p, sphere, rec, sim(3, 10), [&](const nbs::ScanRecord&) { ++callbacks; });
-  CHECK(r.stop == nbs::LoopStop::transfer_failed);
-  CHECK(std::string(nbs::to_string(r.stop)) == "transfer_failed");
-  CHECK(r.records.size() == 2);
-  CHECK(callbacks == 2);
-  CHECK(p.scans() == 2);  // nothing integrated after the failure
-  REQUIRE(r.failed_transfer.has_value());
-  CHECK(r.failed_transfer->failure == "test: no motion");
-  CHECK(r.last_plan == nbs::PlanStatus::ok);
+  const nbs::FreeFlyingSensor fly;
+
+  SECTION("the transfers to the best two candidates fail: the third best is scanned, 2 failures recorded") {
+    // The oracle: a twin run to the same state (scans 1, 2), then S ranked by the utility's values.
+    nbs::RobotPlanner<nbs::FreeFlyingSensor> twin({}, light_lsp(), sphere_box(), s);
+    twin.robot = p.robot;
+    (void)nbs::run_simulation(twin, sphere, RecordingTransfer{}, loop_setting(3, 2));
+    const nbs::PlanResult first = twin.next_best_scan();
+    REQUIRE(first.ok());
+    // S as it was scored (the utility may normalise over the set): the chosen one first, then the rest.
+    std::vector<nbs::LinearScanPath> S{first.path()};
+    for (const nbs::ScanCandidate& c : twin.candidate_set()) S.push_back(c.path);
+    REQUIRE(S.size() >= 3);
+    const nbs::EvaluationResult v = twin.utility.evaluate(std::span<const nbs::LinearScanPath>(S), twin.sensor(),
+                                                          twin.space(), twin.utility_context(),
+                                                          twin.evaluation_setting());
+    std::vector<std::size_t> order;  // S without the chosen one, by value, largest first
+    for (const std::size_t i : nbs::top_indices(v.values, S.size()))
+      if (i != 0) order.push_back(i);
+
+    RecordingTransfer rec;
+    rec.fail_at = 2;     // the transfer to scan 3 fails ...
+    rec.fail_count = 2;  // ... twice
+    const auto r = nbs::run_simulation(p, sphere, rec, loop_setting(3, 3));
+    REQUIRE(r.records.size() == 3);
+    CHECK(r.stop == nbs::LoopStop::max_scans);
+    REQUIRE(rec.calls->size() == 4);
+    CHECK(r.records[1].transfer->failed_attempts == 0);
+    const nbs::TransferRecord& t = *r.records[2].transfer;
+    CHECK(t.ok());
+    CHECK(t.failed_attempts == 2);
+    // Tries: the planner's choice, then the best and second best of the rest; the last is scanned.
+    CHECK(nbs::poses_agree(fly.fk((*rec.calls)[1].to), first.path().pose_at(0.0), 1e-9, 1e-9));
+    CHECK(nbs::poses_agree(fly.fk((*rec.calls)[2].to), S[order[0]].pose_at(0.0), 1e-9, 1e-9));
+    CHECK(nbs::poses_agree(fly.fk((*rec.calls)[3].to), S[order[1]].pose_at(0.0), 1e-9, 1e-9));
+    CHECK(r.records[2].path.start().pose().matrix() == S[order[1]].start().pose().matrix());
+    CHECK(r.records[2].planning.best_utility == Approx(v.values[order[1]]).epsilon(1e-12));
+    CHECK(r.records[2].planning.reach_checks == first.stats.reach_checks + 2);  // one per reselect
+  }
+  SECTION("every try fails: transfer_failed after 1 + transfer_retries tries, no candidate scanned") {
+    for (const int retries : {0, 2}) {
+      INFO("retries " << retries);
+      nbs::RobotPlanner<nbs::FreeFlyingSensor> q({}, light_lsp(), sphere_box(), s);
+      q.robot = p.robot;
+      RecordingTransfer rec;
+      rec.fail_at = 2;  // every transfer from scan 3 on fails
+      nbs::SimulationSetting sim = loop_setting(3, 10);
+      sim.transfer_retries = retries;
+      int callbacks = 0;
+      const auto r = nbs::run_simulation(q, sphere, rec, sim, [&](const nbs::ScanRecord&) { ++callbacks; });
+      CHECK(r.stop == nbs::LoopStop::transfer_failed);
+      CHECK(std::string(nbs::to_string(r.stop)) == "transfer_failed");
+      CHECK(r.records.size() == 2);
+      CHECK(callbacks == 2);
+      CHECK(q.scans() == 2);  // nothing integrated after the failure
+      CHECK(static_cast<int>(rec.calls->size()) == 1 + 1 + retries);
+      REQUIRE(r.failed_transfer.has_value());
+      CHECK(r.failed_transfer->failure == "test: no motion");
+      CHECK(r.failed_transfer->failed_attempts == 1 + retries);
+      CHECK(r.last_plan == nbs::PlanStatus::ok);
+    }
+  }
+  SECTION("a negative retry count is refused before any work") {
+    nbs::SimulationSetting sim = loop_setting(3, 10);
+    sim.transfer_retries = -1;
+    CHECK_THROWS_WITH(nbs::run_simulation(p, sphere, RecordingTransfer{}, sim),
+                      nbs_test::Contains("transfer_retries must be >= 0, got -1"));
+    CHECK(p.scans() == 0);
+  }
+}
+
+TEST_CASE("robot loop: the first scan is one the robot can fly: the seeded path or the next; else refused before any work",
+          "[planner][robot][transfer]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::RobotPlanner<HalfSpaceFlyer> p({}, light_lsp(), sphere_box(), setting(1));
+  p.robot = nbs::RobotReach<HalfSpaceFlyer>(HalfSpaceFlyer{0.0, false, {}}, kStart);  // flies x <= 0 only
+  const auto flyable = [&](int i) {
+    const nbs::LinearScanPath path = p.initial_scan(i);
+    return path.start().position().x() <= 0.0 && path.end_position().x() <= 0.0;
+  };
+  // Seed 3 draws initial path 9 (x > 0): the loop takes the next flyable one in cyclic order (brute force).
+  const int seeded = nbs::random_initial_scan_index(3);
+  REQUIRE_FALSE(flyable(seeded));
+  int expected = seeded;
+  while (!flyable(expected)) expected = (expected + 1) % nbs::kInitialScanPathCount;
+  const auto run = nbs::run_simulation(p, sphere, loop_setting(3, 1));
+  REQUIRE(run.records.size() == 1);
+  CHECK(run.records[0].initial_index == expected);
+  CHECK(run.records[0].path.start().pose().matrix() == p.initial_scan(expected).start().pose().matrix());
+
+  // A forced initial path the robot cannot fly: refused, naming it.
+  nbs::RobotPlanner<HalfSpaceFlyer> q({}, light_lsp(), sphere_box(), setting(1));
+  q.robot = p.robot;
+  nbs::SimulationSetting sim = loop_setting(3, 5);
+  sim.initial_index = seeded;
+  const nbs::Vec3 a = q.initial_scan(seeded).start().position();
+  std::ostringstream where;
+  where.precision(17);  // as nbs::InvalidArgument's messages
+  where << "initial path " << seeded << " of 13 (sensor from (" << a.x() << ", " << a.y() << ", " << a.z() << ") m";
+  const RecordingTransfer rec;
+  std::string message;
+  try {
+    (void)nbs::run_simulation(q, sphere, rec, sim);
+  } catch (const nbs::InvalidArgument& e) {
+    message = e.what();
+  }
+  CHECK_THAT(message, nbs_test::Contains("the robot cannot fly the first scan, " + where.str()));
+  CHECK_THAT(message, nbs_test::Contains("unreachable at sample 0"));
+  // A robot that flies none of the 13: refused with or without a transfer planner.
+  q.robot = nbs::RobotReach<HalfSpaceFlyer>(HalfSpaceFlyer{0.0, true, {}}, kStart);
+  CHECK_THROWS_WITH(nbs::run_simulation(q, sphere, loop_setting(3, 5)),
+                    nbs_test::Contains("can fly none of the 13 initial scan paths; the seeded one: initial path"));
+  CHECK(q.scans() == 0);
+  CHECK(rec.calls->empty());
+}
+
+TEST_CASE("robot planner: the transfer cost reorders candidates as u·exp(−λ·d) says; λ < 0 or NaN is refused",
+          "[planner][robot][transfer]") {
+  CHECK(nbs::transfer_cost_score(2.0, 1.0, std::log(2.0)) == Approx(1.0).epsilon(1e-15));
+  CHECK(nbs::transfer_cost_score(-2.0, 1.0, std::log(2.0)) == Approx(-4.0).epsilon(1e-15));
+  CHECK(nbs::transfer_cost_score(3.0, 5.0, 0.0) == 3.0);
+
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::PlannerSetting s = setting(1);
+  s.rescan_when_explore_empty = false;
+  HeightPlanner plain({}, light_lsp(), sphere_box(), s);
+  plain.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
+  const nbs::Scan scan = sphere.scan(plain.initial_scan(0), plain.sensor(), 7);
+  (void)plain.integrate(scan);
+  const nbs::JointVector q = plain.robot.configuration();
+  const nbs::PlanResult top = plain.next_best_scan();
+  REQUIRE(top.ok());
+  // S as it was scored: the chosen one (the highest start, u = 1 + z) and the rest.
+  std::vector<nbs::LinearScanPath> S{top.path()};
+  for (const nbs::ScanCandidate& c : plain.candidate_set()) S.push_back(c.path);
+  const nbs::FreeFlyingSensor fly;
+  const auto u = [](const nbs::LinearScanPath& p) { return 1.0 + p.start().position().z(); };
+  const auto d = [&](const nbs::LinearScanPath& p) { return (*fly.ik(p.start().pose(), q) - q).norm(); };
+  // λ that makes the nearest candidate of lower utility beat the chosen one: λ = 2·ln(u_0/u_1)/(d_0 − d_1).
+  std::size_t near = 0;
+  for (std::size_t i = 1; i < S.size(); ++i)
+    if (d(S[i]) < d(S[near])) near = i;
+  REQUIRE(near != 0);
+  REQUIRE(u(S[near]) < u(S[0]));
+  const double lambda = 2.0 * std::log(u(S[0]) / u(S[near])) / (d(S[0]) - d(S[near]));
+  // Brute-force oracle: the largest u·exp(−λ·d) over S (ties to the lower index).
+  std::size_t expected = 0;
+  for (std::size_t i = 1; i < S.size(); ++i)
+    if (u(S[i]) * std::exp(-lambda * d(S[i])) > u(S[expected]) * std::exp(-lambda * d(S[expected]))) expected = i;
+  REQUIRE(expected != 0);  // the cost reorders
+
+  HeightPlanner costed({}, light_lsp(), sphere_box(), s);
+  nbs::RobotReach<nbs::FreeFlyingSensor>::Setting rs;
+  rs.transfer_cost_weight = lambda;
+  costed.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart, rs);
+  (void)costed.integrate(scan);
+  const nbs::PlanResult chosen = costed.next_best_scan();
+  REQUIRE(chosen.ok());
+  CHECK(chosen.path().start().pose().matrix() == S[expected].start().pose().matrix());
+  CHECK(chosen.stats.best_utility == u(S[expected]));  // the utility, not the score
+
+  for (const double bad : {-1.0, std::nan("")}) {
+    rs.transfer_cost_weight = bad;
+    CHECK_THROWS_WITH((nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart, rs)),
+                      nbs_test::Contains("transfer_cost_weight must be finite and >= 0"));
+  }
 }
 
 TEST_CASE("robot loop: a transfer planner for another joint count is refused before any work",
@@ -287,7 +470,7 @@ TEST_CASE("robot loop: a transfer planner for another joint count is refused bef
   const nbs::test::SphereOnPedestal sphere;
   nbs::NbsPlanner<> plain({}, light_lsp(), sphere_box(), setting(1));  // no robot: 0 joints
   const RecordingTransfer rec;
-  CHECK_THROWS_WITH(nbs::run_simulation(plain, sphere, rec, sim(3, 4)),
+  CHECK_THROWS_WITH(nbs::run_simulation(plain, sphere, rec, loop_setting(3, 4)),
                     nbs_test::Contains("transfer planner has 6 joints but the planner's robot has 0"));
   CHECK(plain.scans() == 0);
   CHECK(rec.calls->empty());

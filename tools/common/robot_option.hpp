@@ -30,6 +30,8 @@ namespace nbs::tools {
 struct RobotOptions {
   std::string urdf;  ///< --robot PATH; empty: the sensor flies freely
   std::string base_link = "world", flange_link = "lwr_flange", sensor_link = "sensor";  ///< --robot-links
+  double transfer_cost = 0.0;  ///< --transfer-cost: RobotReach::Setting::transfer_cost_weight λ, 1/rad
+  int transfer_retries = 5;    ///< --transfer-retries: SimulationSetting::transfer_retries
 
   [[nodiscard]] bool active() const { return !urdf.empty(); }
 };
@@ -54,6 +56,15 @@ inline void add_robot_options(CLI::App& app, RobotOptions& o) {
          },
          "the URDF's base, flange and sensor links (default world,lwr_flange,sensor: data/robots/lwr4.urdf)")
       ->type_name("BASE,FLANGE,SENSOR");
+  app.add_option("--transfer-cost", o.transfer_cost,
+                 "with --robot: choose the reachable candidate of the largest u*exp(-L*d), d the straight joint-space "
+                 "distance (rad) to its start configuration (default 0: utility only, as the thesis)")
+      ->type_name("L")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--transfer-retries", o.transfer_retries,
+                 "with --robot: after a failed transfer try up to N next best candidates before stopping (default 5)")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber);
 }
 
 /// A robot loaded for a run: the model, its start configuration (the middle of each joint's limits, 0 for an
@@ -62,6 +73,7 @@ struct LoadedRobot {
   AnyRobot robot;
   JointVector start;
   RobotReach<AnyRobot>::Setting setting;
+  int transfer_retries = 5;  ///< SimulationSetting::transfer_retries of the runs
 };
 
 /// Loads `o.urdf` through nbs::kdl. Throws nbs::Error naming the path (unreadable, bad URDF, missing link, ...), or
@@ -77,12 +89,14 @@ struct LoadedRobot {
     if (moved[j] == start[j]) moved[j] = std::clamp(start[j] - 0.3, lim.lower[j], lim.upper[j]);
   }
   RobotReach<AnyRobot>::Setting setting;
+  setting.transfer_cost_weight = o.transfer_cost;
   const std::vector<PlacedShape> a = robot.collision_shapes(start), b = robot.collision_shapes(moved);
   for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
     if (a[i].link == b[i].link && a[i].T_WG.isApprox(b[i].T_WG, 1e-12) &&
         std::ranges::find(setting.links.table_exempt_links, a[i].link) == setting.links.table_exempt_links.end())
       setting.links.table_exempt_links.push_back(a[i].link);
-  return {std::move(robot), std::move(start), std::move(setting)};
+  setting.validate();
+  return {std::move(robot), std::move(start), std::move(setting), o.transfer_retries};
 #else
   detail::require(false, "--robot ", o.urdf,
                   ": this binary was built without KDL or OMPL (the nbs::kdl adapter: Debian liborocos-kdl-dev and "

@@ -200,6 +200,7 @@ public:
       r.t_coverage_s = lap();
     }
     ++scans_;  // after the models: a throw above leaves n_s unchanged
+    scores_.reset();  // S is scored anew after a scan (reselect)
     if constexpr (kHasRobot) {
       if (robot.active() && !scan_in.profile_poses.empty()) robot.scanned(scan_in.profile_poses.back());
     }
@@ -226,21 +227,15 @@ public:
   /// returns `ok` without a path. With an active robot, Alg. 3 also requires the robot to fly the path from its
   /// current configuration, and the chosen candidate is checked again (S may hold candidates of earlier steps):
   /// if it fails, it leaves S and the next in utility order is checked; if none passes, no_reachable_candidate.
-  /// The chosen path's joint trajectory is PlanResult::joints.
+  /// With RobotReach::Setting::transfer_cost_weight λ > 0 the choice is the reachable candidate with the largest
+  /// transfer_cost_score (exact: candidates are checked in utility order until no later one can score higher).
+  /// The chosen path's joint trajectory is PlanResult::joints. reselect() chooses again from the same scores.
   [[nodiscard]] PlanResult next_best_scan() {
     const auto t0 = std::chrono::steady_clock::now();
-    PlanResult out;
+    PlanResult out = started_plan();
     IterationStats& st = out.stats;
-    st.scans = scans_;
-    st.estimated_coverage = coverage_;
-    st.mean_density = density_;
-    const auto finish = [&](PlanStatus s) {
-      out.status = s;
-      st.mode = mode_;
-      st.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      last_stats_ = st;
-      return out;
-    };
+    const auto finish = [&](PlanStatus s) { return finished_plan(out, s, t0); };
+    scores_.reset();
     if (done()) return finish(PlanStatus::done);
     if (mesh_->face_count() == 0) return finish(PlanStatus::nothing_seen_yet);
 
@@ -278,23 +273,35 @@ public:
     st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
     st.evaluated = pool_.size();
     if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
-    std::size_t chosen = res.best;
-    std::vector<std::size_t> leaving;  // indices into S (and res.values) that leave S
-    if constexpr (kHasRobot) {
-      if (robot.active()) {
-        const std::optional<std::size_t> c = choose_reachable(res, out, st, leaving);
-        if (!c) {
-          erase_from_pool(std::move(leaving));
-          return finish(PlanStatus::no_reachable_candidate);
-        }
-        chosen = *c;
-      }
+    scores_ = res.values;
+    return finish(take(res.best, out));
+  }
+
+  /// Chooses again from the candidates the last next_best_scan() scored, without generating or scoring anything:
+  /// the best one left in S by the same rule (utility order — the largest value first, ties to the lower index —,
+  /// reach, transfer cost). For a loop whose transfer to the chosen scan failed: that candidate has already left S,
+  /// so this is the next best. Statuses: ok, no_reachable_candidate (S had candidates, none flyable; they leave S),
+  /// no_candidates (S is empty, or no next_best_scan() since the last integrate()). PlanResult::stats counts only
+  /// this call (reach checks, unreachable, best_utility, t_nbs_s).
+  [[nodiscard]] PlanResult reselect() {
+    const auto t0 = std::chrono::steady_clock::now();
+    PlanResult out = started_plan();
+    PlanStatus status = PlanStatus::no_candidates;
+    if (scores_ && !pool_.empty()) {
+      out.stats.evaluated = pool_.size();
+      const std::vector<std::size_t> top = top_indices(std::span<const double>(*scores_), 1);
+      if (!top.empty()) status = take(top.front(), out);
     }
-    st.best_utility = res.values[chosen];
-    out.candidate = std::move(pool_[chosen]);
-    leaving.push_back(chosen);
-    erase_from_pool(std::move(leaving));
-    return finish(PlanStatus::ok);
+    return finished_plan(out, status, t0);
+  }
+
+  /// Can the planner's robot fly `path` from its current configuration, links checked against the voxel space
+  /// now? With FreeFlying or an inactive robot: always (an empty trajectory). Throws as RobotPathChecker does.
+  [[nodiscard]] ScanPathReach reach(const LinearScanPath& path) const {
+    if constexpr (kHasRobot) {
+      if (robot.active()) return robot.checker(*space_).check(path, robot.configuration());
+    }
+    return {};
   }
 
   /// The robot's current joint configuration (the end of the last scan, RobotReach::configuration()); empty with
@@ -463,29 +470,86 @@ private:
     return true;
   }
 
-  /// The index in S of the best candidate the robot can fly now (res's best first, then by value; ties to the lower
-  /// index), its trajectory in out.joints; the refused ones are appended to `refused` (they leave S).
-  std::optional<std::size_t> choose_reachable(const EvaluationResult& res, PlanResult& out, IterationStats& st,
-                                              std::vector<std::size_t>& refused) {
-    const auto checker = robot.checker(*space_);
-    std::vector<std::size_t> order{res.best};
-    for (const std::size_t i : top_indices(std::span<const double>(res.values), res.values.size()))
-      if (i != res.best) order.push_back(i);
-    std::optional<std::size_t> chosen;
-    for (const std::size_t i : order) {
-      if (!count_unreachable(reach_failure(checker, pool_[i].path, st, &out.joints), st)) {
-        chosen = i;
-        break;
+  /// A plan with the model's state in its stats (n_s, ĉ_m, d̄_m).
+  [[nodiscard]] PlanResult started_plan() const {
+    PlanResult out;
+    out.stats.scans = scans_;
+    out.stats.estimated_coverage = coverage_;
+    out.stats.mean_density = density_;
+    return out;
+  }
+  /// `out` with status `s`, the mode and t_nbs since `t0`; kept as last_stats().
+  PlanResult finished_plan(PlanResult& out, PlanStatus s, std::chrono::steady_clock::time_point t0) {
+    out.status = s;
+    out.stats.mode = mode_;
+    out.stats.t_nbs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    last_stats_ = out.stats;
+    return out;
+  }
+
+  /// Takes the chosen candidate out of S into `out` (scores_ = the values of S, `first` = the utility's choice):
+  /// with an active robot the best one it can fly (choose_reachable; the refused ones leave S too). Returns ok or
+  /// no_reachable_candidate.
+  PlanStatus take(std::size_t first, PlanResult& out) {
+    std::size_t chosen = first;
+    std::vector<std::size_t> leaving;  // indices into S (and scores_) that leave S
+    if constexpr (kHasRobot) {
+      if (robot.active()) {
+        const std::optional<std::size_t> c = choose_reachable(first, out, out.stats, leaving);
+        if (!c) {
+          erase_from_pool(std::move(leaving));
+          return PlanStatus::no_reachable_candidate;
+        }
+        chosen = *c;
       }
-      refused.push_back(i);
+    }
+    out.stats.best_utility = (*scores_)[chosen];
+    out.candidate = std::move(pool_[chosen]);
+    leaving.push_back(chosen);
+    erase_from_pool(std::move(leaving));
+    return PlanStatus::ok;
+  }
+
+  /// The index in S of the best candidate the robot can fly now (`first` checked first, then by value; ties to the
+  /// lower index), its trajectory in out.joints; the refused ones are appended to `refused` (they leave S). With
+  /// λ = transfer_cost_weight > 0: the flyable one of the largest transfer_cost_score, d from its first IK
+  /// configuration; the search stops at the first candidate whose value is ≤ the best score (the score is ≤ the
+  /// value, so no later one can win).
+  std::optional<std::size_t> choose_reachable(std::size_t first, PlanResult& out, IterationStats& st,
+                                              std::vector<std::size_t>& refused) {
+    const std::vector<double>& values = *scores_;
+    const auto checker = robot.checker(*space_);
+    const double lambda = robot.setting().transfer_cost_weight;
+    std::vector<std::size_t> order{first};
+    for (const std::size_t i : top_indices(std::span<const double>(values), values.size()))
+      if (i != first) order.push_back(i);
+    std::optional<std::size_t> chosen;
+    double best = 0.0;  // the chosen one's score
+    for (const std::size_t i : order) {
+      if (chosen && (lambda == 0.0 || values[i] <= best)) break;
+      std::vector<JointVector> joints;
+      if (count_unreachable(reach_failure(checker, pool_[i].path, st, &joints), st)) {
+        refused.push_back(i);
+        continue;
+      }
+      const double d = joints.empty() ? 0.0 : (joints.front() - robot.configuration()).norm();
+      const double score = transfer_cost_score(values[i], d, lambda);
+      if (!chosen || score > best) {
+        chosen = i;
+        best = score;
+        out.joints = std::move(joints);
+      }
     }
     if (chosen && !out.joints.empty()) robot.planned(out.joints.back());
     return chosen;
   }
-  /// Erases the candidates at `indices` (distinct) from S, keeping the order of the rest.
+  /// Erases the candidates at `indices` (distinct) from S (and their scores), keeping the order of the rest.
   void erase_from_pool(std::vector<std::size_t> indices) {
     std::ranges::sort(indices, std::greater<>{});
-    for (const std::size_t i : indices) pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(i));
+    for (const std::size_t i : indices) {
+      pool_.erase(pool_.begin() + static_cast<std::ptrdiff_t>(i));
+      if (scores_) scores_->erase(scores_->begin() + static_cast<std::ptrdiff_t>(i));
+    }
   }
 
   template <class Generator>
@@ -503,6 +567,8 @@ private:
   bool rescan_pending_ = false;
   bool fixed_space_generated_ = false;
   std::vector<ScanCandidate> pool_;
+  /// The utility values of S from the last next_best_scan(), index for index (reselect()); reset by integrate().
+  std::optional<std::vector<double>> scores_;
   Pose last_sensor_ = Pose::Identity();
   std::vector<Pose> scan_starts_;  // PlanningContext::scan_starts
   double last_path_length_ = 0.0;

@@ -6,6 +6,7 @@
 /// can fly its linear scan path (`RobotPathChecker`: IK every ≤ 10 mm, continuous joints within limits, links vs the
 /// voxel space and the table), with IK seeded from R's current configuration — the end of the last executed scan.
 
+#include <cmath>
 #include <concepts>
 #include <optional>
 #include <utility>
@@ -34,9 +35,18 @@ public:
   struct Setting {
     LinkCollisionSetting links{};
     ScanPathReachSetting path{};
+    /// λ of the transfer cost (issue 19 item 3), 1/rad, ≥ 0: the planner chooses the reachable candidate with the
+    /// largest transfer_cost_score(u, d, λ) = u·exp(−λ·d) (u·exp(+λ·d) for u < 0), d = ‖q_start − q‖ the straight
+    /// joint-space distance from the current configuration q to the candidate's first IK configuration (the reach
+    /// check's, no motion planning). 0 (default): utility only, as the thesis chooses (its utility, Eq. 4.34, has no
+    /// motion-cost term), and today's plans bit for bit.
+    double transfer_cost_weight = 0.0;
     void validate() const {
       links.validate();
       path.validate();
+      detail::require(std::isfinite(transfer_cost_weight) && transfer_cost_weight >= 0.0,
+                      "RobotReach::Setting::transfer_cost_weight must be finite and >= 0 (1/rad), got ",
+                      transfer_cost_weight);
     }
   };
 
@@ -97,13 +107,21 @@ private:
   std::optional<JointVector> hint_;
 };
 
-/// A robot policy of NbsPlanner: FreeFlying, or active() / check / checker / configuration / planned / scanned as
+/// The transfer-cost score of a candidate of utility u whose start configuration is d (rad, ≥ 0) away in joint
+/// space, for the weight λ (1/rad, ≥ 0): u·exp(−λ·d) for u ≥ 0, u·exp(λ·d) for u < 0 — never above u, decreasing in
+/// d for either sign (the gain·exp(−λ·cost) form of receding-horizon NBV planners). λ = 0 gives u.
+[[nodiscard]] inline double transfer_cost_score(double u, double d, double lambda) {
+  return u * std::exp((u < 0.0 ? lambda : -lambda) * d);
+}
+
+/// A robot policy of NbsPlanner: FreeFlying, or active() / setting() / checker / configuration / planned / scanned as
 /// RobotReach has them.
 template <class P, class Space>
 concept RobotPolicy = std::same_as<P, FreeFlying> ||
                       requires(P& p, const P& cp, const LinearScanPath& path, const Space& s, const Pose& T,
                                const JointVector& q) {
                         { cp.active() } -> std::convertible_to<bool>;
+                        { cp.setting().transfer_cost_weight } -> std::convertible_to<double>;
                         { cp.checker(s).check(path, q) } -> std::same_as<ScanPathReach>;
                         { cp.configuration() } -> std::convertible_to<JointVector>;
                         p.planned(q);

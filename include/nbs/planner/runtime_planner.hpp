@@ -155,6 +155,14 @@ public:
   [[nodiscard]] PlanResult next_best_scan() {
     return std::visit([](auto& p) { return p.next_best_scan(); }, planner_);
   }
+  /// NbsPlanner::reselect(): the next best of the last scored candidate set (after a failed transfer).
+  [[nodiscard]] PlanResult reselect() {
+    return std::visit([](auto& p) { return p.reselect(); }, planner_);
+  }
+  /// NbsPlanner::reach(path): can the robot fly `path` now (always without set_robot)?
+  [[nodiscard]] ScanPathReach reach(const LinearScanPath& path) const {
+    return std::visit([&](const auto& p) { return p.reach(path); }, planner_);
+  }
   [[nodiscard]] bool done() const {
     return std::visit([](const auto& p) { return p.done(); }, planner_);
   }

@@ -7,11 +7,14 @@
 /// `run_loop` with a `SimulatedDriver` over a `ScanSimulator` (e.g. nbs::embree::SimulatedScanner, for a
 /// LaserStripeProfiler or an AreaSensor): infinite robot workspace (Sec. 4.7), every planned path is executed as
 /// planned. With a transfer planner (robot/transfer.hpp; issue 19 item 4) the loop also plans and records the arm's
-/// joint-space transfer from the end of each scan to the start of the next.
+/// joint-space transfer from the end of each scan to the start of the next; a failed transfer excludes its candidate
+/// and the next best is tried (SimulationSetting::transfer_retries). With a robot the first scan's path is checked
+/// for reach before anything runs.
 
 #include <concepts>
 #include <cstdint>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -21,6 +24,7 @@
 #include "nbs/core/detail/random.hpp"
 #include "nbs/driver/concepts.hpp"
 #include "nbs/driver/simulated_driver.hpp"
+#include "nbs/robot/reachability.hpp"
 #include "nbs/robot/transfer.hpp"
 #include "nbs/sensor/area_sensor.hpp"
 
@@ -36,23 +40,33 @@ concept LoopPlanner = requires(P& p, const P& cp, const Scan& scan, std::uint64_
   cp.sensor();
 };
 
-/// A LoopPlanner whose robot the loop can move: `cp.space()` (the voxel space the transfers avoid) and
-/// `cp.robot_configuration()` (the robot's current joints, the end of the last scan; empty without an active robot).
-/// NbsPlanner and RuntimePlanner model it.
+/// A LoopPlanner whose robot the loop can move: `cp.space()` (the voxel space the transfers avoid),
+/// `cp.robot_configuration()` (the robot's current joints, the end of the last scan; empty without an active robot),
+/// `cp.reach(path)` (can the robot fly it now; always without a robot) and `p.reselect()` (the next best of the
+/// last scored candidate set, the chosen one excluded: after a failed transfer). NbsPlanner and RuntimePlanner
+/// model it.
 template <class P>
-concept RobotLoopPlanner = LoopPlanner<P> && requires(const P& cp) {
+concept RobotLoopPlanner = LoopPlanner<P> && requires(P& p, const P& cp, const LinearScanPath& path) {
   requires VoxelSpace<std::remove_cvref_t<decltype(cp.space())>>;
   { cp.robot_configuration() } -> std::convertible_to<JointVector>;
+  { cp.reach(path) } -> std::same_as<ScanPathReach>;
+  { p.reselect() } -> std::same_as<PlanResult>;
 };
 
 /// Settings of run_loop and run_simulation.
 struct SimulationSetting {
-  std::uint64_t seed = 1;     ///< initial path (random_initial_scan_index(seed)); run_simulation: also the noise
+  /// initial path (random_initial_scan_index(seed); with a robot the next one it can fly, reachable_initial_index);
+  /// run_simulation: also the noise
+  std::uint64_t seed = 1;
   int max_scans = 30;         ///< n_abort (Tab. 4.3): hard limit, ≥ 1
   std::optional<int> initial_index;  ///< force one of the 13 initial paths instead of the seeded choice
+  /// With a transfer planner: after a failed transfer, up to this many further candidates (the next best reachable
+  /// ones, PlanResult via reselect()) are tried before the loop stops with transfer_failed (≥ 0; 0: stop at once).
+  int transfer_retries = 5;
 
   void validate() const {
     detail::require(max_scans >= 1, "SimulationSetting.max_scans must be >= 1, got ", max_scans);
+    detail::require(transfer_retries >= 0, "SimulationSetting.transfer_retries must be >= 0, got ", transfer_retries);
     detail::require(!initial_index || (*initial_index >= 0 && *initial_index < kInitialScanPathCount),
                     "SimulationSetting.initial_index must be in [0, 13), got ", initial_index.value_or(-1));
   }
@@ -76,9 +90,10 @@ struct ScanRecord {
 };
 
 /// Why the loop stopped.
-/// `transfer_failed`: with a transfer planner, the arm found no motion to the chosen scan's start (the scan is not
-/// taken; SimulationResult::transfer_failure says why).
-enum class LoopStop : std::uint8_t { done, max_scans, no_candidates, transfer_failed };
+/// `no_reachable_candidate`: with a robot, S had candidates but the robot could fly none (PlanStatus of that name).
+/// `transfer_failed`: with a transfer planner, the arm found no motion to the chosen scan's start nor to any of the
+/// next SimulationSetting::transfer_retries candidates (no scan taken; SimulationResult::failed_transfer says why).
+enum class LoopStop : std::uint8_t { done, max_scans, no_candidates, transfer_failed, no_reachable_candidate };
 
 [[nodiscard]] inline const char* to_string(LoopStop s) {
   switch (s) {
@@ -86,6 +101,7 @@ enum class LoopStop : std::uint8_t { done, max_scans, no_candidates, transfer_fa
     case LoopStop::max_scans: return "max_scans";
     case LoopStop::no_candidates: return "no_candidates";
     case LoopStop::transfer_failed: return "transfer_failed";
+    case LoopStop::no_reachable_candidate: return "no_reachable_candidate";
   }
   return "?";
 }
@@ -94,7 +110,8 @@ struct SimulationResult {
   std::vector<ScanRecord> records;
   LoopStop stop = LoopStop::max_scans;
   PlanStatus last_plan = PlanStatus::ok;  ///< status of the last next_best_scan (ok if never called)
-  /// stop == transfer_failed: the failed transfer (its failure, the time spent); its candidate was not scanned.
+  /// stop == transfer_failed: the last failed transfer (its failure, the time spent; failed_attempts: all tries of
+  /// that step); no candidate of that step was scanned.
   std::optional<TransferRecord> failed_transfer;
 };
 
@@ -115,6 +132,91 @@ template <class Sensor>
   }
 }
 }  // namespace detail
+
+/// The loop's stop reason for a plan that is not ok.
+[[nodiscard]] inline LoopStop loop_stop(PlanStatus s) {
+  if (s == PlanStatus::done) return LoopStop::done;
+  return s == PlanStatus::no_reachable_candidate ? LoopStop::no_reachable_candidate : LoopStop::no_candidates;
+}
+
+namespace detail {
+/// "initial path i of 13 (sensor from (x, y, z) m to (x, y, z) m, viewing direction (x, y, z)): <failure> at sample k"
+[[nodiscard]] inline std::string describe_unreachable_initial(const LinearScanPath& path, int index,
+                                                              const ScanPathReach& r) {
+  const Vec3 a = path.start().position(), b = path.end_position(), z = path.start().pose().linear().col(2);
+  std::ostringstream os;
+  os.precision(17);
+  os << "initial path " << index << " of " << kInitialScanPathCount << " (sensor from (" << a.x() << ", " << a.y()
+     << ", " << a.z() << ") m to (" << b.x() << ", " << b.y() << ", " << b.z() << ") m, viewing direction ("
+     << z.x() << ", " << z.y() << ", " << z.z() << ")): " << to_string(r.failure) << " at sample " << r.step;
+  if (!r.link.empty()) os << " (link " << r.link << ")";
+  return os.str();
+}
+}  // namespace detail
+
+/// The index of the first scan's initial path for a planner whose robot must fly it (planner.reach: from the
+/// robot's start configuration, links against the empty space): `forced` if given — InvalidArgument naming the
+/// path's poses and the failure unless the robot can fly it —; else the seeded random_initial_scan_index(seed) or,
+/// if the robot cannot fly that one, the next of the 13 in cyclic order (i + 1 mod 13, …) that it can fly;
+/// InvalidArgument naming the seeded path if it can fly none. Without a robot: `forced` or the seeded index, as
+/// run_loop always chose it. Nothing changed.
+template <RobotLoopPlanner Planner>
+[[nodiscard]] int reachable_initial_index(const Planner& planner, std::uint64_t seed, std::optional<int> forced) {
+  const int seeded = forced.value_or(random_initial_scan_index(seed));
+  const ScanPathReach r = planner.reach(planner.initial_scan(seeded));
+  if (r.ok()) return seeded;
+  const std::string what = detail::describe_unreachable_initial(planner.initial_scan(seeded), seeded, r);
+  detail::require(!forced, "the robot cannot fly the first scan, ", what,
+                  "; move the robot's base or the object, or choose another initial path");
+  for (int k = 1; k < kInitialScanPathCount; ++k) {
+    const int i = (seeded + k) % kInitialScanPathCount;
+    if (planner.reach(planner.initial_scan(i)).ok()) return i;
+  }
+  detail::require(false, "the robot can fly none of the 13 initial scan paths; the seeded one: ", what,
+                  "; move the robot's base or the object");
+  return seeded;
+}
+
+/// Adds a reselect() step's counts to the step's statistics `st` (the chosen utility is the new one).
+inline void add_reselect_stats(IterationStats& st, const IterationStats& again) {
+  st.unreachable += again.unreachable;
+  for (std::size_t i = 0; i < st.unreachable_by_failure.size(); ++i)
+    st.unreachable_by_failure[i] += again.unreachable_by_failure[i];
+  st.reach_checks += again.reach_checks;
+  st.t_reach_s += again.t_reach_s;
+  st.t_nbs_s += again.t_nbs_s;
+  st.best_utility = again.best_utility;
+}
+
+/// The transfer to the scan `plan` chose, `transfer_to(plan)` (nullopt: no transfer planner); if it fails, its
+/// candidate stays excluded (it has left S) and up to `retries` next best candidates (planner.reselect()) are tried,
+/// `plan` replaced by each (its stats add the reselect steps'). Returns the first transfer that succeeded, its
+/// failed_attempts the failures before it; else the last failure, failed_attempts all of them (also when S ran out).
+template <class Planner, class TransferTo>
+[[nodiscard]] std::optional<TransferRecord> transfer_with_retries(Planner& planner, PlanResult& plan, int retries,
+                                                                  TransferTo&& transfer_to) {
+  int failures = 0;
+  for (;;) {
+    std::optional<TransferRecord> transfer = transfer_to(plan);
+    if (!transfer) return transfer;
+    if (transfer->ok()) {
+      transfer->failed_attempts = failures;
+      return transfer;
+    }
+    transfer->failed_attempts = ++failures;
+    if constexpr (!RobotLoopPlanner<Planner>) {
+      return transfer;
+    } else {
+      if (failures > retries) return transfer;
+      PlanResult again = planner.reselect();
+      if (!again.ok()) return transfer;
+      IterationStats st = plan.stats;
+      add_reselect_stats(st, again.stats);
+      plan = std::move(again);
+      plan.stats = st;
+    }
+  }
+}
 
 namespace detail {
 /// The loop of run_loop; `transfer_to(plan)` gives the transfer to the planned scan's start (nullopt: none).
@@ -144,7 +246,9 @@ SimulationResult run_loop_with(Planner& planner, Driver& driver, const Simulatio
     out.records.push_back(std::move(rec));
     on_scan(out.records.back());
   };
-  const int first = setting.initial_index.value_or(random_initial_scan_index(setting.seed));
+  int first = 0;
+  if constexpr (RobotLoopPlanner<Planner>) first = reachable_initial_index(planner, setting.seed, setting.initial_index);
+  else first = setting.initial_index.value_or(random_initial_scan_index(setting.seed));
   execute(planner.initial_scan(first), first, std::nullopt, {}, std::nullopt);
   while (static_cast<int>(out.records.size()) < setting.max_scans) {
     if (planner.done()) {
@@ -154,10 +258,10 @@ SimulationResult run_loop_with(Planner& planner, Driver& driver, const Simulatio
     PlanResult plan = planner.next_best_scan();
     out.last_plan = plan.status;
     if (!plan.ok()) {
-      out.stop = plan.status == PlanStatus::done ? LoopStop::done : LoopStop::no_candidates;
+      out.stop = loop_stop(plan.status);
       return out;
     }
-    std::optional<TransferRecord> transfer = transfer_to(plan);
+    std::optional<TransferRecord> transfer = transfer_with_retries(planner, plan, setting.transfer_retries, transfer_to);
     if (transfer && !transfer->ok()) {
       out.stop = LoopStop::transfer_failed;
       out.failed_transfer = std::move(transfer);
@@ -177,7 +281,9 @@ SimulationResult run_loop_with(Planner& planner, Driver& driver, const Simulatio
 /// c_a(30) of Sec. 4.7.2 give the planner MaxScansReached as termination), after `max_scans` scans, or when no
 /// candidate is left. `on_scan(record)` is called after each scan is integrated (progress lines, ground-truth
 /// metrics). Throws what the planner or the driver throw (InvalidArgument for an invalid setting); the planner then
-/// holds the scans integrated before.
+/// holds the scans integrated before. A planner with a robot (RobotLoopPlanner): the first scan is one the robot
+/// can fly (reachable_initial_index: the seeded one or the next reachable; InvalidArgument naming the pose before
+/// any work if none, or if the forced SimulationSetting::initial_index is not).
 template <LoopPlanner Planner, ScanDriver Driver, class Callback = NoScanCallback>
   requires std::invocable<Callback&, const ScanRecord&>
 SimulationResult run_loop(Planner& planner, Driver& driver, const SimulationSetting& setting = {},
@@ -203,10 +309,12 @@ template <RobotLoopPlanner Planner, class Transfer>
 /// run_loop that also moves the robot between scans: after each planned scan is chosen, the transfer to its start
 /// (plan_scan_transfer: `transfer` from the end joints of the previous scan to the start joints of the next, against
 /// the voxel space after the previous scan) is planned and recorded in ScanRecord::transfer before the scan is
-/// taken. A failed transfer stops the loop with LoopStop::transfer_failed (SimulationResult::failed_transfer); the
-/// candidate is not scanned (it has already left the planner's candidate set). The first scan (one of the 13 initial
-/// paths) has no transfer. Throws InvalidArgument before any work unless transfer.joint_count() is 0 or the
-/// planner's robot's joint count (0: the planner has no active robot), and what run_loop throws.
+/// taken. A failed transfer excludes its candidate (it has left the planner's candidate set) and the next best
+/// reachable one is tried (planner.reselect()), up to setting.transfer_retries more (TransferRecord::failed_attempts
+/// counts the failures); when all fail the loop stops with LoopStop::transfer_failed
+/// (SimulationResult::failed_transfer) and none is scanned. The first scan (one of the 13 initial paths) has no
+/// transfer. Throws InvalidArgument before any work unless transfer.joint_count() is 0 or the planner's robot's joint
+/// count (0: the planner has no active robot), and what run_loop throws.
 template <RobotLoopPlanner Planner, ScanDriver Driver, class Transfer, class Callback = NoScanCallback>
   requires TransferPlanner<Transfer, std::remove_cvref_t<decltype(std::declval<const Planner&>().space())>> &&
            std::invocable<Callback&, const ScanRecord&>
@@ -222,6 +330,15 @@ SimulationResult run_loop(Planner& planner, Driver& driver, const Transfer& tran
   });
 }
 
+namespace detail {
+/// The driver of run_simulation: `SimulatedDriver(scanner, planner.sensor(), seed)`.
+template <class Planner, class Scanner>
+[[nodiscard]] auto simulated_driver(const Planner& planner, const Scanner& scanner, std::uint64_t seed) {
+  using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
+  return SimulatedDriver<Scanner, Sensor>(scanner, planner.sensor(), seed);
+}
+}  // namespace detail
+
 /// run_loop with `SimulatedDriver(scanner, planner.sensor(), setting.seed)`: scan i (0-based) uses sensor noise seed
 /// splitmix64(seed ^ (0x5CA9 + i)). With an AreaSensor each scan is one frame at the start of the planned path
 /// (`ScanRecord::path` is that single viewpoint, so l_s stays 0). Throws what the planner or the scanner throw
@@ -232,8 +349,7 @@ template <LoopPlanner Planner, class Scanner, class Callback = NoScanCallback>
 SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const SimulationSetting& setting = {},
                                 Callback&& on_scan = {}) {
   setting.validate();
-  using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
-  SimulatedDriver<Scanner, Sensor> driver(scanner, planner.sensor(), setting.seed);
+  auto driver = detail::simulated_driver(planner, scanner, setting.seed);
   return run_loop(planner, driver, setting, std::forward<Callback>(on_scan));
 }
 
@@ -245,8 +361,7 @@ template <RobotLoopPlanner Planner, class Scanner, class Transfer, class Callbac
 SimulationResult run_simulation(Planner& planner, const Scanner& scanner, const Transfer& transfer,
                                 const SimulationSetting& setting = {}, Callback&& on_scan = {}) {
   setting.validate();
-  using Sensor = std::remove_cvref_t<decltype(planner.sensor())>;
-  SimulatedDriver<Scanner, Sensor> driver(scanner, planner.sensor(), setting.seed);
+  auto driver = detail::simulated_driver(planner, scanner, setting.seed);
   return run_loop(planner, driver, transfer, setting, std::forward<Callback>(on_scan));
 }
 }  // namespace nbs

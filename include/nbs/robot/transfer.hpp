@@ -92,6 +92,9 @@ struct TransferRecord {
   double sensor_length_m = 0.0;        ///< TransferPlan::sensor_length_m: the sensor's path in the world, m
   double t_plan_s = 0.0;               ///< wall time of the plan call (motion planning), s
   std::string failure;                 ///< TransferPlan::failure (empty: executed)
+  /// Failed transfers of the same planning step (the loop: to other candidates, each then excluded) before this
+  /// one; for a failed record all of them, this one included. 0: the first try succeeded.
+  int failed_attempts = 0;
 
   [[nodiscard]] bool ok() const { return failure.empty(); }
 };
