@@ -11,6 +11,9 @@
 #include <vector>
 
 #include "nbs/explore/scene_exploration.hpp"
+#include "nbs/sensor/presets.hpp"
+#include "nbs/space/probabilistic_voxel_space.hpp"
+#include "nbs_temp_dir.hpp"
 #include "test_meshes.hpp"
 
 using namespace nbs;
@@ -216,4 +219,48 @@ TEST_CASE("explore_scene: no plane stops the loop; invalid settings name the val
   st = {};
   st.max_steps = -2;
   CHECK_THROWS_WITH(explore_scene(source, rec, modeler, st), nbs_test::Contains("max_steps must be >= 1, got -2"));
+}
+
+TEST_CASE("explore_scene: a frame without a pose and a modeler over its budget are refused", "[scene][explore]") {
+  SECTION("a frame with points but no profile pose") {
+    FakeSource source{frame_of({kA})};
+    source.frame.profile_poses.clear();
+    FakeRecogniser rec;
+    FakeModeler modeler;
+    CHECK_THROWS_WITH(explore_scene(source, rec, modeler),
+                      nbs_test::Contains("step 0 has " + std::to_string(source.frame.size()) + " points but no profile pose"));
+    CHECK(modeler.budgets.empty());
+  }
+  SECTION("ModelingResult::scans outside [0, max_scans]") {
+    struct Liar {
+      int extra = 0;
+      ModelingResult model(const scene::ObjectHypothesis&, int max_scans) {
+        ModelingResult m;
+        m.scans = extra > 0 ? max_scans + extra : extra;
+        return m;
+      }
+    };
+    ExplorationSetting st;
+    st.scan_budget = 7;
+    for (const auto& [extra, text] : {std::pair{1, "reported 8 scans, outside [0, 7]"},
+                                      std::pair{-3, "reported -3 scans, outside [0, 7]"}}) {
+      FakeSource source{frame_of({kA, kB})};
+      FakeRecogniser rec = knows_a();
+      Liar modeler{extra};
+      CHECK_THROWS_WITH(explore_scene(source, rec, modeler, st), nbs_test::Contains(text));
+      CHECK(rec.models.size() == 1);  // nothing learned
+    }
+  }
+}
+
+TEST_CASE("PpfRecogniser::learn: an invalid name is refused before the database is read", "[scene][explore]") {
+  nbs_test::TempDir dir("nbs_learn_test_");
+  ModelDatabase db = ModelDatabase::create(dir.path / "db");
+  const ProbabilisticVoxelSpace<> space(0.01, Aabb{Vec3(-0.1, -0.1, -0.1), Vec3(0.1, 0.1, 0.1)});
+  PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, presets::asus_xtion_pro(), space);
+  const IndexedMesh box = test::box_mesh(Vec3(-0.02, -0.02, 0.0), Vec3(0.02, 0.02, 0.04));
+  CHECK_THROWS_WITH(recogniser.learn("", box), nbs_test::Contains("model name '' must be"));
+  CHECK_THROWS_WITH(recogniser.learn("a b", box), nbs_test::Contains("model name 'a b' must be"));
+  CHECK(db.models().empty());
+  CHECK(recogniser.database().models().empty());
 }

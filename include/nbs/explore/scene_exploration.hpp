@@ -104,9 +104,10 @@ struct ClusterRecord {
   ClusterState state = ClusterState::unexplained;
 };
 
-/// A model the loop added to the database.
+/// A model the loop made of one cluster. Learned (added to the recogniser under `name`) only if its mesh has a
+/// triangle; else `name` is empty and the entry only keeps its box from being modeled again.
 struct LearnedModel {
-  std::string name;
+  std::string name;                       ///< empty: the mesh came out empty, not learned
   Pose T_world_model = Pose::Identity();  ///< the model frame: a translation to the box's bottom centre
   IndexedMesh mesh_world;                 ///< as modeled (world frame)
   Aabb box;                               ///< the cluster's box it was modeled in
@@ -153,7 +154,7 @@ struct ExplorationSetting {
 
 struct ExplorationResult {
   std::vector<StepRecord> steps;
-  std::vector<LearnedModel> learned;
+  std::vector<LearnedModel> learned;  ///< every modeled cluster in modeling order, also the unlearned (empty name)
   int scans = 0;  ///< modeling scans taken
   ExplorationStop stop = ExplorationStop::max_steps;
 };
@@ -174,7 +175,8 @@ namespace explore_detail {
 /// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
 /// model (explained), when the budget is spent before a cluster could be modeled, after `max_steps` steps, or when a
 /// frame has no support plane. `on_step(record)` is called after each step. Throws InvalidArgument for an invalid
-/// setting, and what the source, recogniser or modeler throw.
+/// setting, a frame with points but no profile pose, or a modeler reporting scans outside [0, its max_scans], and
+/// what the source, recogniser or modeler throw.
 template <OverviewSource Source, ObjectRecogniser Recogniser, ObjectModeler Modeler, class OnStep>
 ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler& modeler,
                                 const ExplorationSetting& setting, OnStep&& on_step) {
@@ -183,6 +185,8 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
   int next_name = 1;
   for (int step = 0; step < setting.max_steps; ++step) {
     const Scan frame = source.overview(step);
+    detail::require(frame.empty() || !frame.profile_poses.empty(), "explore_scene: the overview frame of step ", step,
+                    " has ", frame.size(), " points but no profile pose");
     StepRecord rec;
     rec.step = step;
     rec.view = frame.profile_poses.empty() ? Pose::Identity() : frame.profile_poses.front();
@@ -217,7 +221,10 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       const auto k = static_cast<std::size_t>(todo - rec.clusters.begin());
       rec.modeled_cluster = static_cast<int>(k);
       todo->state = ClusterState::modeling;
-      ModelingResult m = modeler.model(seg.objects[k], setting.scan_budget - out.scans);
+      const int budget = setting.scan_budget - out.scans;
+      ModelingResult m = modeler.model(seg.objects[k], budget);
+      detail::require(m.scans >= 0 && m.scans <= budget, "explore_scene: the modeler reported ", m.scans,
+                      " scans, outside [0, ", budget, "] (its max_scans)");
       out.scans += m.scans;
       LearnedModel learned;
       learned.box = seg.objects[k].box;
@@ -299,7 +306,7 @@ public:
       : db_(&database), sensor_(sensor), space_(&space), setting_(setting) {
     setting_.validate();
     sensor_.validate();
-    for (const DatabaseModel& m : db_->models()) entries_.push_back(make_entry(m.mesh));
+    for (const DatabaseModel& m : db_->models()) entries_.push_back(make_entry(m.mesh, m.metadata.name));
   }
 
   [[nodiscard]] const ModelDatabase& database() const { return *db_; }
@@ -307,6 +314,8 @@ public:
   [[nodiscard]] Recognition recognise(const scene::ObjectHypothesis&, const Scan& cluster) {
     Recognition best;
     if (cluster.empty() || entries_.empty()) return best;
+    nbs::detail::require(!cluster.profile_poses.empty(), "PpfRecogniser::recognise: the cluster has ",
+                         cluster.size(), " points but no profile pose");
     const std::vector<Vec3> n = estimate_scan_normals(cluster, {.radius_m = setting_.normal_radius_m});
     OrientedPoints scene;
     for (std::size_t i = 0; i < cluster.size(); ++i)
@@ -341,8 +350,12 @@ public:
   }
 
   /// Adds `mesh` (model frame) as `name` to the database (its PPF table built with setting.model) and to the
-  /// recogniser. Throws what ModelDatabase::add throws (nothing changes then).
+  /// recogniser. Throws InvalidArgument for an invalid name or mesh or a name already in the database, and what
+  /// ModelDatabase::add throws (nothing changes then).
   void learn(const std::string& name, const IndexedMesh& mesh) {
+    ModelDatabase::check_name(name);
+    nbs::detail::require(db_->find(name) == nullptr, "PpfRecogniser::learn: a model named '", name,
+                         "' is already in the database");
     Entry e = make_entry(mesh, name);
     db_->add(ModelMetadata{name, 0.0, {}, {"nbs_explore"}}, mesh, PpfModel(e.samples, setting_.model));
     entries_.push_back(std::move(e));
@@ -356,10 +369,10 @@ private:
     std::unique_ptr<Caster> caster;
   };
 
-  [[nodiscard]] Entry make_entry(const IndexedMesh& mesh, std::string name = {}) const {
+  [[nodiscard]] Entry make_entry(const IndexedMesh& mesh, std::string name) const {
     mesh.validate();
     Entry e;
-    e.name = name.empty() ? db_->models()[entries_.size()].metadata.name : std::move(name);
+    e.name = std::move(name);
     e.samples = oriented_points(sample_surface(mesh, setting_.surface_samples, setting_.seed));
     for (const Vec3& v : mesh.vertices) e.box.extend(v);
     e.caster = std::make_unique<Caster>(mesh);

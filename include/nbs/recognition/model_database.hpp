@@ -125,9 +125,7 @@ public:
   static constexpr const char* kFeatures = "ppf.bin";
   static constexpr const char* kMetadata = "model.json";
 
-private:
-  explicit ModelDatabase(std::filesystem::path dir) : dir_(std::move(dir)) {}
-
+  /// Throws InvalidArgument naming `name` unless it is 1 to 200 characters of [A-Za-z0-9_-].
   static void check_name(const std::string& name) {
     detail::require(!name.empty() && name.size() <= 200 &&
                         std::all_of(name.begin(), name.end(),
@@ -137,6 +135,9 @@ private:
                                     }),
                     "ModelDatabase: model name '", name, "' must be 1 to 200 characters of [A-Za-z0-9_-]");
   }
+
+private:
+  explicit ModelDatabase(std::filesystem::path dir) : dir_(std::move(dir)) {}
 
   [[nodiscard]] static std::string utc_now() {
     const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
