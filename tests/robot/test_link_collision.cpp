@@ -573,3 +573,37 @@ TEST_CASE("LinkCollisionChecker: a link with a box mesh gives the same contacts 
   CHECK(b.collides(q));
   CHECK_FALSE(skipping.collides(q));  // documented: skipped meshes are not checked
 }
+
+TEST_CASE("CollisionMesh: a scale that overflows or underflows the vertices is refused naming the mesh; a non-finite "
+          "query point is outside",
+          "[robot][collision][mesh]") {
+  IndexedMesh square;
+  square.vertices = {Vec3(-1.5, -1.5, 0), Vec3(1.5, -1.5, 0), Vec3(1.5, 1.5, 0), Vec3(-1.5, 1.5, 0)};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  // 1.5 · 1.7e308 overflows; ±1.5e308 are finite but their extent 3e308 is not; denorm_min · 0.15 rounds to 0.
+  CHECK_THROWS_WITH(CollisionMesh(square, Vec3(1.7e308, 1.0, 1.0), "huge.stl"),
+                    nbs_test::Contains("huge.stl: vertex 0 scaled by"));
+  CHECK_THROWS_WITH(CollisionMesh(square, Vec3(1e308, 1.0, 1.0), "wide.stl"),
+                    nbs_test::Contains("wide.stl: the scaled bounds' extent (inf"));
+  IndexedMesh small = square;
+  for (Vec3& v : small.vertices) v *= 0.1;
+  CHECK_THROWS_WITH(CollisionMesh(small, Vec3::Constant(std::numeric_limits<double>::denorm_min()), "tiny.stl"),
+                    nbs_test::Contains("tiny.stl: the scaled bounds' extent (0 0 0) gives a grid cell of 0 m"));
+
+  IndexedMesh box;
+  append_box_mesh(box, Vec3(0.05, 0.04, 0.03));
+  const CollisionMesh mesh(box);
+  REQUIRE(mesh.closed());
+  REQUIRE(mesh.contains(Vec3::Zero()));
+  REQUIRE(mesh.within(Vec3::Zero(), 0.0));
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Vec3& g : {Vec3(nan, 0, 0), Vec3(0, 0, nan), Vec3(inf, 0, 0), Vec3(0, 0, -inf)}) {
+    INFO(g.transpose());
+    CHECK_FALSE(mesh.contains(g));
+    CHECK_FALSE(mesh.within(g, 0.01));
+    CHECK_FALSE(mesh.within(g, inf));
+    CHECK(mesh.surface_distance(g) == inf);
+    CHECK(mesh.distance(g) == inf);
+  }
+  CHECK_FALSE(mesh.within(Vec3::Zero(), nan));
+}

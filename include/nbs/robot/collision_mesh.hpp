@@ -12,6 +12,9 @@
 /// hull is outside). Cost: the triangles are binned once into a uniform grid over the bounds; `within` tests the
 /// triangles of the cells within reach of the point, then (closed meshes) those of its xy column — O(triangles) in
 /// the worst case; `surface_distance` / `distance` test every triangle (bounding-sphere rejection).
+///
+/// A query point with a non-finite coordinate (NaN, ±∞) is outside and beyond any reach: `contains` and `within`
+/// give false, `surface_distance` and `distance` +∞.
 
 #include <algorithm>
 #include <array>
@@ -35,7 +38,9 @@ namespace nbs {
 class CollisionMesh {
 public:
   /// `mesh` (as loaded, any unit) scaled by `scale` per axis of G. `name` (the file) is used in messages. Throws
-  /// InvalidArgument naming `name` for an invalid mesh (IndexedMesh::validate) or a scale that is not finite and > 0.
+  /// InvalidArgument naming `name` for an invalid mesh (IndexedMesh::validate), a scale that is not finite and > 0,
+  /// a scaled vertex that is not finite (the scale overflowed) or scaled bounds whose grid cell is not finite and
+  /// > 0 (the scale underflowed to a flat or point mesh).
   CollisionMesh(const IndexedMesh& mesh, const Vec3& scale = Vec3::Ones(), std::string name = "collision mesh")
       : name_(std::move(name)) {
     detail::require(scale.allFinite() && (scale.array() > 0.0).all(), name_, ": mesh scale (", scale.transpose(),
@@ -50,6 +55,8 @@ public:
     std::vector<std::uint32_t> remap(mesh.vertices.size());
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
       const Vec3 v = mesh.vertices[i].cwiseProduct(scale);
+      detail::require(v.allFinite(), name_, ": vertex ", i, " scaled by (", scale.transpose(), ") is (",
+                      v.transpose(), "), not finite");
       const auto [it, inserted] =
           index.try_emplace(std::make_tuple(v.x(), v.y(), v.z()), static_cast<std::uint32_t>(vertices_.size()));
       if (inserted) vertices_.push_back(v);
@@ -97,6 +104,7 @@ public:
   /// Unsigned distance from g (in G) to the nearest triangle, metres.
   [[nodiscard]] double surface_distance(const Vec3& g) const {
     double best = std::numeric_limits<double>::infinity();
+    if (!g.allFinite()) return best;
     for (std::size_t t = 0; t < tris_.size(); ++t) {
       const Tri& r = tris_[t];
       const double lower = (g - r.center).norm() - r.radius;
@@ -108,7 +116,7 @@ public:
 
   /// True if g (in G) lies inside the closed mesh (ray parity); always false for an open mesh.
   [[nodiscard]] bool contains(const Vec3& g) const {
-    if (!closed_) return false;
+    if (!closed_ || !g.allFinite()) return false;
     if (!(g.x() >= bounds_.min.x() && g.x() < bounds_.max.x() && g.y() >= bounds_.min.y() && g.y() < bounds_.max.y()))
       return false;
     bool inside = false;
@@ -139,8 +147,9 @@ public:
   }
 
   /// True if g (in G) is within `reach` (≥ 0, metres) of the solid: a triangle within reach, or inside. Stops at the
-  /// first triangle within reach; equals distance(g) ≤ reach.
+  /// first triangle within reach; equals distance(g) ≤ reach. False for a NaN reach.
   [[nodiscard]] bool within(const Vec3& g, double reach) const {
+    if (!g.allFinite() || std::isnan(reach)) return false;
     // The cells of the cube [g − reach, g + reach] (a triangle within reach has its closest point there).
     std::size_t lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
@@ -178,9 +187,11 @@ private:
   [[nodiscard]] std::size_t cell_index(const Vec3& g, int a) const { return cell_of(g[a], a); }
 
   void build_grids() {
-    const double extent = bounds_.extent().maxCoeff();  // > 0: the mesh has a triangle of positive area
+    const double extent = bounds_.extent().maxCoeff();
     const double per_axis = std::clamp(std::ceil(std::cbrt(static_cast<double>(tris_.size()))), 1.0, 64.0);
     cell_m_ = extent / per_axis;
+    detail::require(std::isfinite(cell_m_) && cell_m_ > 0.0, name_, ": the scaled bounds' extent (",
+                    bounds_.extent().transpose(), ") gives a grid cell of ", cell_m_, " m; it must be finite and > 0");
     for (int a = 0; a < 3; ++a)
       cells_.n[a] = static_cast<std::size_t>(
           std::clamp(std::ceil(bounds_.extent()[a] / cell_m_), 1.0, 64.0));
