@@ -64,6 +64,12 @@ TEST_CASE("malformed STL files throw FileError naming the file and the problem",
   fails("two_corners.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n",
         "line 6: a facet has 2 vertices");
   fails("junk.stl", "solid x\n" + facet + "hello\nendsolid x\n", "unexpected 'hello'");
+  fails("no_loop.stl", "solid x\n" + facet + "facet normal 0 0 1\nendfacet\n" + facet + "endsolid x\n",
+        "line 10: a facet without 'outer loop'");
+  fails("two_loops.stl",
+        "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+        "outer loop\nvertex 0 0 1\nvertex 1 0 1\nvertex 0 1 1\nendloop\nendfacet\nendsolid x\n",
+        "line 8: a facet has a second 'outer loop'");
   fails("flat.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 2 0 0\nendloop\n"
                     "endfacet\nendsolid\n",
         "zero area");

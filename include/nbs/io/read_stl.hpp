@@ -77,7 +77,7 @@ private:
 [[nodiscard]] inline IndexedMesh parse_stl_ascii(const std::string& path, std::string_view text) {
   StlBuilder b;
   std::size_t pos = 0, line_no = 0, corners_in_loop = 0;
-  bool solid = false, facet = false, loop = false, ended = false;
+  bool solid = false, facet = false, loop = false, looped = false, ended = false;  // looped: the facet had its loop
   auto fail = [&](const auto&... msg) {
     throw FileError(detail::concat(path, ": line ", line_no, ": ", msg...));
   };
@@ -93,9 +93,12 @@ private:
     } else if (k == "facet") {
       if (facet) fail("'facet' inside a facet");
       facet = true;
+      looped = false;
     } else if (k == "outer") {
       if (!facet || loop || w.size() < 2 || w[1] != "loop") fail("'outer loop' expected inside a facet");
+      if (looped) fail("a facet has a second 'outer loop'");
       loop = true;
+      looped = true;
       corners_in_loop = 0;
     } else if (k == "vertex") {
       if (!loop) fail("'vertex' outside 'outer loop'");
@@ -115,6 +118,7 @@ private:
       loop = false;
     } else if (k == "endfacet") {
       if (!facet || loop) fail("'endfacet' without a closed 'outer loop'");
+      if (!looped) fail("a facet without 'outer loop' (no vertices, STL needs 3)");
       facet = false;
     } else if (k == "endsolid") {
       if (facet) fail("'endsolid' inside a facet");
@@ -134,7 +138,7 @@ private:
 /// triangle count n in bytes 80–83 (little endian), else ASCII if it starts with "solid", else an error.
 /// Coordinates as stored (no unit conversion). Throws FileError naming the file and the problem (and the line for
 /// ASCII): a size that fits neither encoding, a truncated binary file, a non-finite or unparsable coordinate, a
-/// facet without 3 vertices, a missing "endsolid", no triangle of positive area.
+/// facet without exactly one loop of 3 vertices, a missing "endsolid", no triangle of positive area.
 [[nodiscard]] inline IndexedMesh read_stl_bytes(const std::string& path, const std::string& bytes) {
   if (bytes.size() >= 84) {
     std::uint64_t n = 0;
