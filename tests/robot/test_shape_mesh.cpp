@@ -178,4 +178,12 @@ TEST_CASE("sensor_path: dense fk along a transfer, against the planar arm's circ
   CHECK(sensor_path(arm, {q1}, 0.02).size() == 1);
   CHECK_THROWS_AS(sensor_path(arm, {q0, q1}, 0.0), InvalidArgument);
   CHECK_THROWS_AS(sensor_path(arm, {q0, q1}, std::nan("")), InvalidArgument);
+  CHECK_THROWS_WITH(sensor_path(arm, {q0, JointVector::Zero(2)}),
+                    nbs_test::Contains("sensor_path: waypoint 1 has 2 entries, the robot has 3 joints"));
+  JointVector bad = q1;
+  bad[1] = std::nan("");
+  CHECK_THROWS_WITH(sensor_path(arm, {q0, q1, bad}), nbs_test::Contains("sensor_path: waypoint 2"));
+  // 0.5 rad at 1e-9 rad per step: 5e8 points, more than the bound (no int overflow, no allocation).
+  CHECK_THROWS_WITH(sensor_path(arm, {q0, q1}, 1e-9),
+                    nbs_test::Contains("gives more than 10000000 points (500000000 from waypoint 0 to 1)"));
 }

@@ -44,21 +44,38 @@ struct TransferPlan {
 /// The sensor origin's path in the world (metres) along the joint polyline `waypoints`: fk at the first waypoint,
 /// then along each straight joint motion at steps whose largest joint change is ≤ `max_step` (rad / m), ending
 /// exactly at each waypoint. For pictures of a transfer; Σ‖Δp‖ over it approaches TransferPlan::sensor_length_m.
-/// Empty for no waypoints. Throws InvalidArgument for max_step ≤ 0 or not finite, and what `robot.fk` throws.
+/// Empty for no waypoints. Throws InvalidArgument (before any fk) for max_step ≤ 0 or not finite, a waypoint without
+/// the robot's joint count or not finite, or a path of more than kMaxSensorPathPoints points; and what `robot.fk`
+/// throws.
+inline constexpr double kMaxSensorPathPoints = 1e7;
+
 template <Robot R>
 [[nodiscard]] std::vector<Vec3> sensor_path(const R& robot, const std::vector<JointVector>& waypoints,
                                             double max_step = 0.02) {
   detail::require(std::isfinite(max_step) && max_step > 0.0, "sensor_path: max_step must be finite and > 0, got ",
                   max_step);
+  const auto n = static_cast<std::size_t>(robot.joint_count());
+  std::vector<int> steps(waypoints.size(), 0);
+  double points = waypoints.empty() ? 0.0 : 1.0;
+  for (std::size_t i = 0; i < waypoints.size(); ++i) {
+    validate_joint_vector(waypoints[i], n, detail::concat("sensor_path: waypoint ", i).c_str());
+    if (i == 0) continue;
+    const JointVector d = waypoints[i] - waypoints[i - 1];
+    const double largest = d.size() ? d.cwiseAbs().maxCoeff() : 0.0;
+    const double k = std::max(1.0, std::ceil(largest / max_step));
+    points += k;
+    detail::require(points <= kMaxSensorPathPoints, "sensor_path: max_step ", max_step, " gives more than ",
+                    kMaxSensorPathPoints, " points (", k, " from waypoint ", i - 1, " to ", i, ")");
+    steps[i] = static_cast<int>(k);
+  }
   std::vector<Vec3> out;
   if (waypoints.empty()) return out;
+  out.reserve(static_cast<std::size_t>(points));
   out.push_back(robot.fk(waypoints.front()).translation());
   for (std::size_t i = 1; i < waypoints.size(); ++i) {
     const JointVector d = waypoints[i] - waypoints[i - 1];
-    const double largest = d.size() ? d.cwiseAbs().maxCoeff() : 0.0;
-    const int steps = std::max(1, static_cast<int>(std::ceil(largest / max_step)));
-    for (int k = 1; k <= steps; ++k)
-      out.push_back(robot.fk(k == steps ? waypoints[i] : JointVector(waypoints[i - 1] + d * (double(k) / steps)))
+    for (int k = 1; k <= steps[i]; ++k)
+      out.push_back(robot.fk(k == steps[i] ? waypoints[i] : JointVector(waypoints[i - 1] + d * (double(k) / steps[i])))
                         .translation());
   }
   return out;
@@ -90,7 +107,8 @@ struct TransferRecord {
   std::vector<JointVector> waypoints;  ///< TransferPlan::waypoints (empty: no motion, or failed)
   double joint_length_rad = 0.0;       ///< joint_path_length(waypoints): Σ ‖Δq‖, rad (m for prismatic joints)
   double sensor_length_m = 0.0;        ///< TransferPlan::sensor_length_m: the sensor's path in the world, m
-  double t_plan_s = 0.0;               ///< wall time of the plan call (motion planning), s
+  double t_plan_s = 0.0;               ///< wall time of motion planning, s: of the plan call (timed_transfer); of
+                                       ///< every try of the step in transfer_with_retries (the loop)
   std::string failure;                 ///< TransferPlan::failure (empty: executed)
   /// Failed transfers of the same planning step (the loop: to other candidates, each then excluded) before this
   /// one; for a failed record all of them, this one included. 0: the first try succeeded.
