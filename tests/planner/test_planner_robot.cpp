@@ -86,8 +86,10 @@ struct RecordingTransfer {
 static_assert(nbs::TransferPlanner<RecordingTransfer, nbs::ProbabilisticVoxelSpace<>>);
 static_assert(nbs::TransferPlanner<nbs::NoTransfer, nbs::ProbabilisticVoxelSpace<>>);
 
-/// A utility of hand-computable values: u = 1 + z of the path's start (metres), the largest first.
+/// A utility of hand-computable values: u = 1 + z of the path's start (metres), the largest first. `drop` > 0 breaks
+/// the UtilityPolicy contract: that many values are left off the end (best still chosen among the rest).
 struct StartHeightUtility {
+  std::size_t drop = 0;
   template <class Sensor, class Space>
   [[nodiscard]] nbs::EvaluationResult evaluate(std::span<const nbs::LinearScanPath> paths, const Sensor&,
                                                const Space&, const nbs::UtilityContext&,
@@ -98,6 +100,7 @@ struct StartHeightUtility {
     r.rays.assign(paths.size(), 0);
     r.voxels.assign(paths.size(), 0);
     if (paths.empty()) return r;
+    r.values.resize(r.values.size() - std::min(drop, r.values.size() - 1));
     r.status = nbs::EvaluationStatus::ok;
     r.best = nbs::top_indices(r.values, 1).front();
     return r;
@@ -474,4 +477,69 @@ TEST_CASE("robot loop: a transfer planner for another joint count is refused bef
                     nbs_test::Contains("transfer planner has 6 joints but the planner's robot has 0"));
   CHECK(plain.scans() == 0);
   CHECK(rec.calls->empty());
+}
+
+TEST_CASE("robot planner: a utility policy returning fewer values than candidates is refused naming both counts",
+          "[planner][robot]") {
+  const nbs::test::SphereOnPedestal sphere;
+  HeightPlanner p({}, light_lsp(), sphere_box(), setting(1));
+  p.robot = nbs::RobotReach<nbs::FreeFlyingSensor>({}, kStart);
+  (void)p.integrate(sphere.scan(p.initial_scan(0), p.sensor(), 7));
+  p.utility.drop = 1;
+  try {
+    (void)p.next_best_scan();
+    FAIL("no exception");
+  } catch (const nbs::InvalidArgument& e) {
+    const std::size_t n = p.candidate_set().size();
+    REQUIRE(n > 1);
+    CHECK_THAT(std::string(e.what()), nbs_test::Contains("the utility policy returned " + std::to_string(n - 1) +
+                                                         " values for " + std::to_string(n) + " candidates"));
+  }
+  p.utility.drop = 0;
+  CHECK(p.reselect().status == nbs::PlanStatus::no_candidates);  // nothing was scored
+  CHECK(p.next_best_scan().ok());
+}
+
+TEST_CASE("transfer_with_retries: the failed tries' planning time is in the returned record; a last reselect() that "
+          "finds nothing flyable keeps its reach checks",
+          "[planner][robot][transfer]") {
+  const nbs::test::SphereOnPedestal sphere;
+  nbs::PlannerSetting s = setting(1);
+  s.rescan_when_explore_empty = false;
+  nbs::RobotPlanner<HalfSpaceFlyer> p({}, light_lsp(), sphere_box(), s);
+  p.robot = nbs::RobotReach<HalfSpaceFlyer>(HalfSpaceFlyer{1e9, false, {}}, kStart);  // reaches everything
+  (void)p.integrate(sphere.scan(p.initial_scan(0), p.sensor(), 7));
+  nbs::PlanResult plan = p.next_best_scan();
+  REQUIRE(plan.ok());
+  const std::size_t left = p.candidate_set().size();
+  REQUIRE(left >= 3);
+  int calls = 0;
+  const auto fail_twice = [&](const nbs::PlanResult&) {  // 0.25 s each; the third try succeeds
+    nbs::TransferRecord t;
+    t.t_plan_s = 0.25;
+    if (++calls <= 2) t.failure = "test: no motion";
+    return std::optional<nbs::TransferRecord>(t);
+  };
+  const std::optional<nbs::TransferRecord> ok = nbs::transfer_with_retries(p, plan, 5, fail_twice);
+  REQUIRE(ok.has_value());
+  CHECK(ok->ok());
+  CHECK(ok->failed_attempts == 2);
+  CHECK(ok->t_plan_s == 0.75);  // all three tries
+
+  // Every transfer fails and the robot now reaches nothing: the reselect() after the first failure checks the
+  // rest of S, finds nothing flyable, and its checks stay in the plan's statistics (its utility does not).
+  const std::size_t rest = p.candidate_set().size();
+  REQUIRE(rest == left - 2);
+  p.robot = nbs::RobotReach<HalfSpaceFlyer>(HalfSpaceFlyer{0.0, true, {}}, kStart);
+  const nbs::IterationStats before = plan.stats;
+  calls = -100;
+  const std::optional<nbs::TransferRecord> failed = nbs::transfer_with_retries(p, plan, 5, fail_twice);
+  REQUIRE(failed.has_value());
+  CHECK_FALSE(failed->ok());
+  CHECK(failed->failed_attempts == 1);
+  CHECK(failed->t_plan_s == 0.25);
+  CHECK(plan.stats.reach_checks == before.reach_checks + rest);
+  CHECK(plan.stats.unreachable == before.unreachable + rest);
+  CHECK(plan.stats.best_utility == before.best_utility);
+  CHECK(p.candidate_set().empty());
 }

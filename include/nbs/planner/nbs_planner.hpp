@@ -230,6 +230,7 @@ public:
   /// With RobotReach::Setting::transfer_cost_weight λ > 0 the choice is the reachable candidate with the largest
   /// transfer_cost_score (exact: candidates are checked in utility order until no later one can score higher).
   /// The chosen path's joint trajectory is PlanResult::joints. reselect() chooses again from the same scores.
+  /// Throws InvalidArgument if the utility returns ok with a value count other than the candidate count.
   [[nodiscard]] PlanResult next_best_scan() {
     const auto t0 = std::chrono::steady_clock::now();
     PlanResult out = started_plan();
@@ -273,6 +274,9 @@ public:
     st.t_evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - te).count();
     st.evaluated = pool_.size();
     if (!res.ok() || res.best >= pool_.size()) return finish(PlanStatus::no_candidates);
+    // A user's UtilityPolicy may break its contract: take() and reselect() index the values by candidate.
+    detail::require(res.values.size() == pool_.size(), "NbsPlanner: the utility policy returned ", res.values.size(),
+                    " values for ", pool_.size(), " candidates");
     scores_ = res.values;
     return finish(take(res.best, out));
   }

@@ -177,41 +177,50 @@ template <RobotLoopPlanner Planner>
   return seeded;
 }
 
-/// Adds a reselect() step's counts to the step's statistics `st` (the chosen utility is the new one).
-inline void add_reselect_stats(IterationStats& st, const IterationStats& again) {
+/// Adds a reselect() step's counts to the step's statistics `st`; the chosen utility becomes the new one if
+/// `chosen` (reselect() found a flyable candidate), else it stays.
+inline void add_reselect_stats(IterationStats& st, const IterationStats& again, bool chosen = true) {
   st.unreachable += again.unreachable;
   for (std::size_t i = 0; i < st.unreachable_by_failure.size(); ++i)
     st.unreachable_by_failure[i] += again.unreachable_by_failure[i];
   st.reach_checks += again.reach_checks;
   st.t_reach_s += again.t_reach_s;
   st.t_nbs_s += again.t_nbs_s;
-  st.best_utility = again.best_utility;
+  if (chosen) st.best_utility = again.best_utility;
 }
 
 /// The transfer to the scan `plan` chose, `transfer_to(plan)` (nullopt: no transfer planner); if it fails, its
 /// candidate stays excluded (it has left S) and up to `retries` next best candidates (planner.reselect()) are tried,
-/// `plan` replaced by each (its stats add the reselect steps'). Returns the first transfer that succeeded, its
-/// failed_attempts the failures before it; else the last failure, failed_attempts all of them (also when S ran out).
+/// `plan` replaced by each (its stats add the reselect steps', also those of a last reselect() that found nothing
+/// flyable). Returns the first transfer that succeeded, its failed_attempts the failures before it; else the last
+/// failure, failed_attempts all of them (also when S ran out). The returned record's t_plan_s is the motion-planning
+/// time of every try of this step (the failed ones included).
 template <class Planner, class TransferTo>
 [[nodiscard]] std::optional<TransferRecord> transfer_with_retries(Planner& planner, PlanResult& plan, int retries,
                                                                   TransferTo&& transfer_to) {
   int failures = 0;
+  double t_failed_s = 0.0;  // motion planning of the failed tries before this one
   for (;;) {
     std::optional<TransferRecord> transfer = transfer_to(plan);
     if (!transfer) return transfer;
+    transfer->t_plan_s += t_failed_s;
     if (transfer->ok()) {
       transfer->failed_attempts = failures;
       return transfer;
     }
+    t_failed_s = transfer->t_plan_s;
     transfer->failed_attempts = ++failures;
     if constexpr (!RobotLoopPlanner<Planner>) {
       return transfer;
     } else {
       if (failures > retries) return transfer;
       PlanResult again = planner.reselect();
-      if (!again.ok()) return transfer;
       IterationStats st = plan.stats;
-      add_reselect_stats(st, again.stats);
+      add_reselect_stats(st, again.stats, again.ok());
+      if (!again.ok()) {
+        plan.stats = st;
+        return transfer;
+      }
       plan = std::move(again);
       plan.stats = st;
     }
