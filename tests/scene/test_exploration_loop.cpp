@@ -227,8 +227,8 @@ TEST_CASE("explore_scene: a frame without a pose and a modeler over its budget a
     source.frame.profile_poses.clear();
     FakeRecogniser rec;
     FakeModeler modeler;
-    CHECK_THROWS_WITH(explore_scene(source, rec, modeler),
-                      nbs_test::Contains("step 0 has " + std::to_string(source.frame.size()) + " points but no profile pose"));
+    const std::string text = "step 0 has " + std::to_string(source.frame.size()) + " points but no profile pose";
+    CHECK_THROWS_WITH(explore_scene(source, rec, modeler), nbs_test::Contains(text));
     CHECK(modeler.budgets.empty());
   }
   SECTION("ModelingResult::scans outside [0, max_scans]") {
