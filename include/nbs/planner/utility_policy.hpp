@@ -35,15 +35,6 @@ concept UtilityPolicy = requires(const U& u, std::span<const LinearScanPath> pat
 
 /// One of the selection criteria of `nbs/utility/selection.hpp`, chosen at run time (Random, IG, Quality,
 /// IG/Quality of Sec. 4.7, peer metrics of Delmerico et al. 2018). λ, n_q and the cut-off come from Parameters.
-/// The options of the selection criteria that are not thesis parameters (see SelectionSetting).
-struct SelectionOptions {
-  double proximity_d_max_m = 0.015;    ///< d_max of PC and VG (metres)
-  bool peers_count_once = false;       ///< Sec. 4.5.3 visited marking for the peer metrics
-  bool per_metre = true;               ///< SG: divide by the scan path length (+ l_0)
-  double length_offset_m = 0.05;       ///< SG: l_0 of the per-metre form (metres, > 0)
-  bool surface_gain_modeling = false;  ///< SG: add ω(n_s)·m_s
-};
-
 struct SelectionUtility {
   struct Setting {
     Selection selection = Selection::ig_quality;
@@ -64,11 +55,7 @@ struct SelectionUtility {
     s.lambda = p.quality_weight;
     s.cutoff_rad = p.incidence_cutoff_rad;
     s.seed = ctx.seed;
-    s.proximity_d_max_m = setting.options.proximity_d_max_m;
-    s.peers_count_once = setting.options.peers_count_once;
-    s.per_metre = setting.options.per_metre;
-    s.length_offset_m = setting.options.length_offset_m;
-    s.surface_gain_modeling = setting.options.surface_gain_modeling;
+    s.options = setting.options;
     return evaluate_selection(paths, sensor, space, s, eval);
   }
 };

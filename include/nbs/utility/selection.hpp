@@ -93,6 +93,16 @@ inline constexpr std::array<Selection, 12> kAllSelections{
   throw InvalidArgument(detail::concat("unknown selection criterion '", code, "'; valid codes: ", valid));
 }
 
+/// The options of the selection criteria that are not thesis parameters (SelectionSetting::options, and the
+/// setting of SelectionUtility / FixedSelection).
+struct SelectionOptions {
+  double proximity_d_max_m = 0.015;    ///< d_max of PC and VG (metres; 3 voxels of 5 mm)
+  bool peers_count_once = false;       ///< apply Sec. 4.5.3's visited marking to the peer VIs
+  bool per_metre = true;               ///< SG: divide by the scan path length (+ l_0)
+  double length_offset_m = 0.05;       ///< SG: l_0 of the per-metre form (metres, > 0)
+  bool surface_gain_modeling = false;  ///< SG: add ω(n_s)·m_s (SurfaceGain::Setting::modeling)
+};
+
 /// Parameters of every criterion; each uses the fields it needs.
 struct SelectionSetting {
   Selection selection = Selection::ig_quality;
@@ -101,11 +111,7 @@ struct SelectionSetting {
   double lambda = 0.7;                                   ///< λ of Eq. (4.33)
   double cutoff_rad = 70.0 * std::numbers::pi / 180.0;   ///< incidence cut-off of Eq. (4.33)
   std::uint64_t seed = 0;                                ///< Random
-  double proximity_d_max_m = 0.015;                      ///< d_max of PC and VG (3 voxels of 5 mm)
-  bool peers_count_once = false;                         ///< apply Sec. 4.5.3's visited marking to the peer VIs
-  bool per_metre = true;                                 ///< SG: divide by the scan path length (+ l_0)
-  double length_offset_m = 0.05;                         ///< SG: l_0 of the per-metre form, > 0
-  bool surface_gain_modeling = false;                    ///< SG: add ω(n_s)·m_s (SurfaceGain::Setting::modeling)
+  SelectionOptions options{};                            ///< the options that are not thesis parameters
 };
 
 /// Evaluates `candidates` with the criterion `sel.selection` (see the table above). N_v is computed from the space
@@ -123,7 +129,7 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
     w.cutoff_rad = sel.cutoff_rad;
     return evaluate_candidates(candidates, sensor, space, WeightedUtility(w), setting);
   };
-  const PeerTermSetting peer{sel.peers_count_once};
+  const PeerTermSetting peer{sel.options.peers_count_once};
   EvaluationResult r;
   switch (sel.selection) {
     case Selection::random: r = evaluate_candidates(candidates, sensor, space, RandomSelection({sel.seed}), setting); break;
@@ -135,15 +141,16 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
     case Selection::rear_side_voxel: r = evaluate_candidates(candidates, sensor, space, RearSideVoxelVI(peer), setting); break;
     case Selection::rear_side_entropy: r = evaluate_candidates(candidates, sensor, space, RearSideEntropyVI(peer), setting); break;
     case Selection::average_entropy:
-      r = evaluate_candidates(candidates, sensor, space, AverageEntropyVI({sel.peers_count_once, false}), setting);
+      r = evaluate_candidates(candidates, sensor, space, AverageEntropyVI({sel.options.peers_count_once, false}),
+                              setting);
       break;
     case Selection::proximity_count: {
-      const ProximityField field = ProximityField::build(space, sel.proximity_d_max_m);
+      const ProximityField field = ProximityField::build(space, sel.options.proximity_d_max_m);
       r = evaluate_candidates(candidates, sensor, space, ProximityCountVI(field, peer), setting);
       break;
     }
     case Selection::vasquez_gomez: {
-      const ProximityField field = ProximityField::build(space, sel.proximity_d_max_m);
+      const ProximityField field = ProximityField::build(space, sel.options.proximity_d_max_m);
       r = evaluate_candidates(candidates, sensor, space, VasquezGomezVI(field), setting);
       break;
     }
@@ -153,10 +160,10 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
       g.omega = modeling_weight(sel.n_scans, sel.n_q);
       g.lambda = sel.lambda;
       g.cutoff_rad = sel.cutoff_rad;
-      g.length_offset_m = sel.length_offset_m;
-      g.modeling = sel.surface_gain_modeling;
+      g.length_offset_m = sel.options.length_offset_m;
+      g.modeling = sel.options.surface_gain_modeling;
       std::vector<double> lengths;
-      if (sel.per_metre) {
+      if (sel.options.per_metre) {
         lengths.reserve(candidates.size());
         for (const LinearScanPath& c : candidates) lengths.push_back(c.length());
       }
