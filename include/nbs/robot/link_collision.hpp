@@ -18,8 +18,9 @@
 /// distance to the solid mesh — the nearest triangle, or inside for a closed mesh (ray parity; an open mesh is a thin
 /// shell, see robot/collision_mesh.hpp), voxels restricted to the mesh's exact world AABB (its transformed vertices);
 /// table test by its lowest transformed vertex. Cost per voxel: the voxel's p look-up, then for an obstacle
-/// CollisionMesh::within (the triangles binned near the voxel centre and in its column; docs/robot.md for timings). A mesh shape whose model did not load it (null `mesh`) is refused at construction, naming the link and
-/// file, unless `skip_mesh_shapes` is set, which leaves every mesh unchecked.
+/// CollisionMesh::within (the triangles binned near the voxel centre and in its column; docs/robot.md for timings).
+/// A mesh shape whose model did not load it (null `mesh`) is refused at construction, naming the link and file,
+/// unless `skip_mesh_shapes` is set, which leaves every mesh unchecked.
 
 #include <Eigen/Core>
 
