@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <string>
@@ -101,4 +102,21 @@ TEST_CASE("explore_scene with Embree: the mug is recognised, the bunny modeled, 
   CHECK(mug_last < 0.03);
   CHECK(bunny_last < 0.03);
   CHECK(c_a > 0.8);
+}
+
+TEST_CASE("OverviewRingSetting: non-finite azimuths and spread are refused naming the field", "[scene][explore]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const auto refused = [](OverviewRingSetting s, const char* text) {
+    CHECK_THROWS_WITH(s.validate(), nbs_test::Contains(text));
+  };
+  OverviewRingSetting s;
+  s.first_azimuth_rad = nan;
+  refused(s, "OverviewRingSetting.first_azimuth_rad must be finite, got nan");
+  s = {};
+  s.step_azimuth_rad = inf;
+  refused(s, "OverviewRingSetting.step_azimuth_rad must be finite, got inf");
+  s = {};
+  s.frame_spread_rad = -inf;
+  refused(s, "OverviewRingSetting.frame_spread_rad must be finite, got -inf");
+  CHECK_NOTHROW(OverviewRingSetting{}.validate());
 }

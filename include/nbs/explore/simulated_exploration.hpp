@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <numbers>
 #include <thread>
+#include <utility>
 
 #include "nbs/planner/nbs_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
@@ -51,6 +52,10 @@ struct OverviewRingSetting {
     detail::require_positive("OverviewRingSetting.distance_m", distance_m);
     detail::require(std::abs(elevation_rad) < 0.5 * std::numbers::pi,
                     "OverviewRingSetting.elevation_rad must be in (-pi/2, pi/2), got ", elevation_rad);
+    for (const auto& [name, value] : {std::pair{"first_azimuth_rad", first_azimuth_rad},
+                                      std::pair{"step_azimuth_rad", step_azimuth_rad},
+                                      std::pair{"frame_spread_rad", frame_spread_rad}})
+      detail::require(std::isfinite(value), "OverviewRingSetting.", name, " must be finite, got ", value);
     detail::require(frames_per_step >= 1 && frames_per_step % 2 == 1,
                     "OverviewRingSetting.frames_per_step must be odd and >= 1, got ", frames_per_step);
   }
