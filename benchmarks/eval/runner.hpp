@@ -191,10 +191,9 @@ struct RunContext {
     rec.double_surface_share = far_share(Pose::Identity());
     rec.double_surface_share_rel = far_share(model_to_true);
   }
-  if (static_cast<int>(res.records.size()) >= ctx.n_abort) rec.stop = "max_scans";
-  else if (res.stop == LoopStop::transfer_failed) rec.stop = "transfer_failed";
-  else if (res.last_plan == PlanStatus::no_reachable_candidate) rec.stop = "no_reachable_candidate";
-  else rec.stop = res.stop == LoopStop::no_candidates ? "no_candidates" : "done";
+  // n_abort scans taken is "max_scans" even when the termination criterion fired on the last one (the loop then
+  // says done); an earlier end is the loop's stop (to_string(LoopStop)).
+  rec.stop = static_cast<int>(res.records.size()) >= ctx.n_abort ? "max_scans" : to_string(res.stop);
   return rec;
 }
 
