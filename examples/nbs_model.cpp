@@ -412,8 +412,16 @@ int run(const Options& opt) {
       stop = loop_stop(plan.status);
       break;
     }
+    // The transfer first, so that the pictures mark the candidate that is scanned: a failed transfer excludes its
+    // candidate and the next best is tried (run_loop's rule); if all fail, plan holds the last one tried.
+    std::optional<TransferRecord> transfer;
+    if (transfer_planner)
+      transfer = transfer_with_retries(planner, plan, robot->transfer_retries, [&](const PlanResult& p) {
+        return std::optional<TransferRecord>(plan_scan_transfer(planner, *transfer_planner, p));
+      });
     // The candidate set S of this step with utilities: the chosen one (its utility from the planner) and the rest
-    // of S re-scored in the same state (RuntimePlanner does not expose the values of next_best_scan()).
+    // of S (without the candidates whose transfer failed) re-scored in the same state (RuntimePlanner does not
+    // expose the values of next_best_scan()).
     std::vector<LinearScanPath> paths{plan.candidate->path};
     std::vector<double> utility{plan.stats.best_utility};
     std::visit(
@@ -430,11 +438,6 @@ int run(const Options& opt) {
     const int n = static_cast<int>(rows.size()) + 1;
     write_candidates_ply(file(opt, numbered("candidates", n, "ply")), paths, utility);
     if (viewer) viewer->add_candidates(n, paths, utility);
-    std::optional<TransferRecord> transfer;
-    if (transfer_planner)  // a failed transfer excludes its candidate; the next best is tried (run_loop's rule)
-      transfer = transfer_with_retries(planner, plan, robot->transfer_retries, [&](const PlanResult& p) {
-        return std::optional<TransferRecord>(plan_scan_transfer(planner, *transfer_planner, p));
-      });
     std::optional<ArmPicture> arm;  // --robot: the arm at the chosen path's start, the transfer to it (if planned)
     if (robot && (opt.images || viewer))
       arm = arm_picture(robot->robot, plan.joints.empty() ? planner.robot_configuration() : plan.joints.front(),
