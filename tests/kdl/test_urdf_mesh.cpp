@@ -11,7 +11,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <unistd.h>
 
@@ -29,6 +31,21 @@ namespace fs = std::filesystem;
 namespace {
 
 const Vec3 kBox(0.1, 0.06, 0.04);  // the mesh file's box, centred at its origin
+
+/// Restores an environment variable (its value, or its absence) when it dies.
+struct EnvRestore {
+  std::string name;
+  std::optional<std::string> value;
+  explicit EnvRestore(std::string n) : name(std::move(n)) {
+    if (const char* v = std::getenv(name.c_str())) value = v;
+  }
+  EnvRestore(const EnvRestore&) = delete;
+  EnvRestore& operator=(const EnvRestore&) = delete;
+  ~EnvRestore() {
+    if (value) ::setenv(name.c_str(), value->c_str(), 1);
+    else ::unsetenv(name.c_str());
+  }
+};
 
 // <ws>/meshpkg/{urdf/arm.urdf, meshes/box.stl (binary), meshes/box_ascii.stl}: base link = the box mesh scaled
 // (2, 1, 1) through package://, 5 cm up; link "arm" (revolute j1 about z, 0.1 m above the base) = the ASCII box
@@ -117,6 +134,7 @@ TEST_CASE("UrdfRobot: package:// search rule (given roots, ROS_PACKAGE_PATH) and
   const std::string abs = "file://" + (pkg.ws / "meshpkg/meshes/box_ascii.stl").string();
   text.replace(text.find(rel), rel.size(), abs);
   std::ofstream(elsewhere) << text;
+  const EnvRestore restore("ROS_PACKAGE_PATH");  // the process's value comes back at the end of the test
   ::unsetenv("ROS_PACKAGE_PATH");
   CHECK_THROWS_AS(load(elsewhere), FileError);
   CHECK_THROWS_WITH(load(elsewhere), Contains(elsewhere.string()) && Contains("link 'base'") &&
@@ -125,7 +143,6 @@ TEST_CASE("UrdfRobot: package:// search rule (given roots, ROS_PACKAGE_PATH) and
   CHECK(load(elsewhere, {pkg.ws / "meshpkg"}).collision_shapes(JointVector::Zero(1)).size() == 2);  // root = package
   ::setenv("ROS_PACKAGE_PATH", ("/nonexistent::" + pkg.ws.string()).c_str(), 1);
   CHECK(load(elsewhere).collision_shapes(JointVector::Zero(1))[0].shape.mesh != nullptr);
-  ::unsetenv("ROS_PACKAGE_PATH");
   fs::remove(elsewhere);
 }
 
@@ -182,4 +199,21 @@ TEST_CASE("LinkCollisionChecker on a URDF mesh link: the same contacts as the li
   }
   CHECK(hits >= 3);
   CHECK(hits <= 30);
+}
+
+TEST_CASE("EnvRestore (the tests' guard): a variable's value, or its absence, comes back", "[kdl][mesh]") {
+  const EnvRestore outer("NBS_TEST_ENV_RESTORE");  // leaves the process as it found it
+  ::setenv("NBS_TEST_ENV_RESTORE", "a", 1);
+  {
+    const EnvRestore guard("NBS_TEST_ENV_RESTORE");
+    ::unsetenv("NBS_TEST_ENV_RESTORE");
+  }
+  REQUIRE(std::getenv("NBS_TEST_ENV_RESTORE") != nullptr);
+  CHECK(std::string(std::getenv("NBS_TEST_ENV_RESTORE")) == "a");
+  ::unsetenv("NBS_TEST_ENV_RESTORE");
+  {
+    const EnvRestore guard("NBS_TEST_ENV_RESTORE");
+    ::setenv("NBS_TEST_ENV_RESTORE", "b", 1);
+  }
+  CHECK(std::getenv("NBS_TEST_ENV_RESTORE") == nullptr);
 }
