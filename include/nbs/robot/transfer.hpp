@@ -41,14 +41,15 @@ struct TransferPlan {
   return s;
 }
 
+/// The most points sensor_path gives (a bound on the work and memory of one call).
+inline constexpr double kMaxSensorPathPoints = 1e7;
+
 /// The sensor origin's path in the world (metres) along the joint polyline `waypoints`: fk at the first waypoint,
 /// then along each straight joint motion at steps whose largest joint change is ≤ `max_step` (rad / m), ending
 /// exactly at each waypoint. For pictures of a transfer; Σ‖Δp‖ over it approaches TransferPlan::sensor_length_m.
 /// Empty for no waypoints. Throws InvalidArgument (before any fk) for max_step ≤ 0 or not finite, a waypoint without
 /// the robot's joint count or not finite, or a path of more than kMaxSensorPathPoints points; and what `robot.fk`
 /// throws.
-inline constexpr double kMaxSensorPathPoints = 1e7;
-
 template <Robot R>
 [[nodiscard]] std::vector<Vec3> sensor_path(const R& robot, const std::vector<JointVector>& waypoints,
                                             double max_step = 0.02) {
