@@ -9,6 +9,7 @@
 #include <numbers>
 #include <random>
 
+#include "nbs/explore/scene_exploration.hpp"
 #include "nbs/recognition/hypothesis_validation.hpp"
 #include "nbs/recognition/hypothesis_verification.hpp"
 #include "nbs/recognition/ppf_match.hpp"
@@ -17,6 +18,7 @@
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "nbs/sim/surface_samples.hpp"
 #include "../sim/test_meshes.hpp"
+#include "nbs_temp_dir.hpp"
 
 using namespace nbs;
 using namespace nbs::test;
@@ -230,4 +232,27 @@ TEST_CASE("validate_hypothesis: v_h of Eq. 3.11 on hand-built probabilities", "[
   const std::vector<Vec3> nan = {Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)};
   CHECK_THROWS_WITH(validate_hypothesis(Ramp{}, std::span<const Vec3>(nan), Pose::Identity()),
                     Catch::Contains("vertex 0"));
+}
+
+TEST_CASE("PpfRecogniser keeps its own model meshes: learned from a temporary, the database grown, still recognised",
+          "[recognition]") {
+  nbs_test::TempDir dir("nbs_ppf_recogniser_");
+  ModelDatabase db = ModelDatabase::create(dir.path / "db");
+  const SyntheticScan s = synthetic_scan(step_object(), 0.0005, 2);
+  ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.25, 0.2, 0.25)});
+  for (int k = -1; k <= 1; ++k) (void)space.integrate(synthetic_scan(step_object(), 0.0005, 11 + k, 0.35 * k).scan);
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space);
+  {
+    IndexedMesh temporary = step_object();
+    recogniser.learn("step", temporary);
+    temporary.vertices.assign(temporary.vertices.size(), Vec3(9, 9, 9));  // a borrowed mesh would now be wrong
+  }
+  recogniser.learn("sphere", uv_sphere(Vec3(0, 0, 0.06), 0.06, 16, 32));  // the database's vector grows
+  const explore::Recognition r = recogniser.recognise({}, s.cluster);
+  const double et = (r.pose.translation() - s.truth.translation()).norm();
+  std::printf("PpfRecogniser: %s, q_h %.3f, v_h %.3f, %.2f mm\n", r.model.c_str(), r.q_h, r.v_h, 1e3 * et);
+  CHECK(r.model == "step");
+  CHECK(r.q_h > 0.85);
+  CHECK(et < 0.002);
+  CHECK(r.accepted);
 }

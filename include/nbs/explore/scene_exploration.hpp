@@ -296,7 +296,8 @@ struct PpfRecogniserSetting {
 /// by estimate_scan_normals), every hypothesis verified by q_h (the model rendered with `Caster` into the cluster's
 /// range image of `sensor`), the best refined by ICP (refine_pose) and rated again; the best model by q_h is
 /// validated by v_h against `space` (borrowed; the caller integrates every scan into it). `learn` adds a model to the
-/// database (mesh + feature table + metadata, ModelDatabase::add). Borrows the database and the space.
+/// database (mesh + feature table + metadata, ModelDatabase::add). Borrows the database and the space; keeps its
+/// own copy of every model mesh for its casters (a caster may borrow the mesh it is built from).
 template <RayCaster Caster, OccupancyProbability Space>
   requires std::constructible_from<Caster, const IndexedMesh&>
 class PpfRecogniser {
@@ -366,7 +367,8 @@ private:
     std::string name;
     OrientedPoints samples;  ///< model frame
     Aabb box;
-    std::unique_ptr<Caster> caster;
+    std::unique_ptr<const IndexedMesh> mesh;  ///< owned copy: the caster may borrow it (the database's may move)
+    std::unique_ptr<Caster> caster;           ///< built from *mesh
   };
 
   [[nodiscard]] Entry make_entry(const IndexedMesh& mesh, std::string name) const {
@@ -375,7 +377,8 @@ private:
     e.name = std::move(name);
     e.samples = oriented_points(sample_surface(mesh, setting_.surface_samples, setting_.seed));
     for (const Vec3& v : mesh.vertices) e.box.extend(v);
-    e.caster = std::make_unique<Caster>(mesh);
+    e.mesh = std::make_unique<const IndexedMesh>(mesh);
+    e.caster = std::make_unique<Caster>(*e.mesh);
     return e;
   }
 
