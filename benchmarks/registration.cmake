@@ -5,7 +5,6 @@
 # figures only. NBS_BENCH_OPEN3D / NBS_BENCH_PCL = OFF leave one out even when installed.
 if(TARGET nbs::embree)
   option(NBS_BENCH_OPEN3D "bench_registration: compare with Open3D when found" ON)
-  option(NBS_BENCH_PCL "bench_registration: compare with PCL when found" ON)
   set(_nbs_reg_sources ${CMAKE_CURRENT_LIST_DIR}/bench_registration.cpp)
   set(_nbs_reg_libs nbs::embree)
   set(_nbs_reg_defs "")
@@ -18,25 +17,15 @@ if(TARGET nbs::embree)
       list(APPEND _nbs_reg_defs NBS_BENCH_HAVE_OPEN3D=1)
     endif()
   endif()
-  if(NBS_BENCH_PCL)
-    # PCL's config looks for VTK (an optional dependency of components registration does not need); Debian's VTK
-    # config then fails on MPI::MPI_C. Not looking for VTK at all avoids both.
-    set(CMAKE_DISABLE_FIND_PACKAGE_VTK TRUE)
-    find_package(PCL 1.13 QUIET COMPONENTS common kdtree registration)
-    unset(CMAKE_DISABLE_FIND_PACKAGE_VTK)
-    if(PCL_FOUND)
-      add_library(nbs_bench_pcl INTERFACE)
-      target_include_directories(nbs_bench_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
-      target_link_libraries(nbs_bench_pcl INTERFACE ${PCL_LIBRARIES})
-      target_compile_definitions(nbs_bench_pcl INTERFACE ${PCL_DEFINITIONS})
-      list(APPEND _nbs_reg_sources ${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp)
-      # GCC 12 -Warray-bounds false positive inside Eigen's SSE float cross product, inlined from PCL's templates
-      # (reported at xmmintrin.h): this unit only, which holds no nbs code.
-      set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp PROPERTIES COMPILE_OPTIONS
-                                  -Wno-array-bounds)
-      list(APPEND _nbs_reg_libs nbs_bench_pcl)
-      list(APPEND _nbs_reg_defs NBS_BENCH_HAVE_PCL=1)
-    endif()
+  nbs_find_bench_pcl(_nbs_reg_pcl)
+  if(_nbs_reg_pcl)
+    list(APPEND _nbs_reg_sources ${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp)
+    # GCC 12 -Warray-bounds false positive inside Eigen's SSE float cross product, inlined from PCL's templates
+    # (reported at xmmintrin.h): this unit only, which holds no nbs code.
+    set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp PROPERTIES COMPILE_OPTIONS
+                                -Wno-array-bounds)
+    list(APPEND _nbs_reg_libs nbs_bench_pcl)
+    list(APPEND _nbs_reg_defs NBS_BENCH_HAVE_PCL=1)
   endif()
   nbs_add_benchmark(registration SOURCES ${_nbs_reg_sources} LIBS ${_nbs_reg_libs})
   target_compile_definitions(bench_registration PRIVATE ${_nbs_reg_defs})
