@@ -8,6 +8,9 @@
 //   space.raycast_vs_octomap              — planning ray casts/s (native log-odds space) ÷ OctoMap computeRayKeys +
 //                                            search per voxel until an occupied voxel, same trees, same segments
 //   space.raycast_2thread_scaling         — cast_rays on 2 threads ÷ 1 thread
+//   space.area_frame_integrate_s          — median over 5 frames of the wall time (s) of integrate() of one Asus
+//                                            Xtion frame (640 × 480) of the bunny on a table, 5 mm, 1 thread
+//   space.area_frame_vs_octomap           — OctoMap insertPointCloud time ÷ that time, same points, same frames
 // Each figure is the ratio of the best of N alternating repetitions measured in this process.
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
@@ -24,11 +27,13 @@
 #include <vector>
 
 #include "headline.hpp"
+#include "nbs/embree/scene_scanner.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/octomap/insert_scan.hpp"
 #include "nbs/octomap/octree_backend.hpp"
+#include "nbs/scene/scene_generator.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
@@ -156,6 +161,79 @@ std::uint64_t state_checksum(const nbs::ProbabilisticVoxelSpace<>& s) {
   return h;
 }
 
+// ---- Area-sensor frames ---------------------------------------------------------------------------------------------
+// The scene of nbs_explore (examples/nbs_explore.cpp): the bunny (0.16 m) on a 0.6 × 0.45 m table (seed 1), its voxel
+// space ProbabilisticVoxelSpace<> at 5 mm over the table up to 0.3 m; Asus Xtion frames (640 × 480) from the
+// OverviewRing geometry (0.75 m from (0, 0, 0.05), 35° elevation, azimuths −90° + 72° k, k = 0..4). Each frame keeps
+// only the points inside the space's bounds (integrate() skips the others; OctoMap would still clear the free space
+// towards them), coordinates rounded to float (OctoMap's precision), as the LSP scans above.
+void area_frame_headlines(int reps) {
+  nbs::IndexedMesh bunny = nbs::load_mesh(NBS_DATA_DIR "/meshes/stanford-bunny.obj");
+  nbs::normalize_on_pedestal(bunny, 0.16, nbs::UpAxis::y);
+  nbs::scene::SceneSettings st;
+  st.min_gap_m = 0.03;
+  st.table_size_x_m = 0.6;
+  st.table_size_y_m = 0.45;
+  const std::vector<nbs::scene::ObjectSpec> specs{{"bunny", bunny}};
+  const nbs::scene::SimulatedScene sc = nbs::scene::generate_scene(specs, st, 1);
+  const nbs::embree::SceneScanner scanner(sc);
+  const nbs::Aabb box{to_float(Vec3(-0.3, -0.225, -0.01)), to_float(Vec3(0.3, 0.225, 0.3))};
+  const nbs::AreaSensor xtion = nbs::presets::asus_xtion_pro();
+  const Vec3 target(0.0, 0.0, 0.05);
+  std::vector<nbs::Scan> frames;
+  std::vector<octomap::Pointcloud> clouds;
+  std::vector<octomap::point3d> origins;
+  std::size_t cast = 0;
+  for (int k = 0; k < 5; ++k) {
+    const double az = -0.5 * std::numbers::pi + 0.4 * std::numbers::pi * k, el = 35.0 * std::numbers::pi / 180.0;
+    const Vec3 eye = to_float(target + 0.75 * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)));
+    const nbs::Scan raw = scanner.scanner().scan(nbs::Viewpoint::look_at(eye, target, Vec3::UnitZ()), xtion, 100 + k);
+    cast += raw.rays_cast;
+    nbs::Scan f;
+    f.profile_poses = raw.profile_poses;
+    f.rays_cast = raw.rays_cast;
+    octomap::Pointcloud c;
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      const Vec3 p = to_float(raw.points[i]);
+      if (!box.contains(p)) continue;
+      f.points.push_back(p);
+      f.profile_of_point.push_back(raw.profile_of_point[i]);
+      c.push_back(float(p.x()), float(p.y()), float(p.z()));
+    }
+    const Vec3 o = f.profile_poses[0].translation();
+    origins.emplace_back(float(o.x()), float(o.y()), float(o.z()));
+    clouds.push_back(std::move(c));
+    frames.push_back(std::move(f));
+  }
+  // Each repetition integrates the 5 frames in order into a fresh space / tree, timing every call; per frame the best
+  // over the repetitions (the calls of both alternate), then the median over the frames.
+  std::vector<double> t_nbs(frames.size(), INFINITY), t_octo(frames.size(), INFINITY);
+  std::size_t points = 0;
+  for (int r = 0; r < reps; ++r) {
+    nbs::ProbabilisticVoxelSpace<> space(0.005, box);
+    auto tree = nbs::octomap::bbx_limited_octree(0.005, box);
+    points = 0;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      points += frames[k].size();
+      t_nbs[k] = std::min(t_nbs[k], nbs::bench::seconds([&] { (void)space.integrate(frames[k]); }));
+      t_octo[k] = std::min(t_octo[k], nbs::bench::seconds([&] { tree.insertPointCloud(clouds[k], origins[k]); }));
+    }
+  }
+  const auto median = [](std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    return x.size() % 2 ? x[x.size() / 2] : 0.5 * (x[x.size() / 2 - 1] + x[x.size() / 2]);
+  };
+  std::printf("space: area frames: %zu Xtion frames, %zu rays cast, %zu points inside the space (%.0f per frame)\n",
+              frames.size(), std::size_t(cast), points, double(points) / double(frames.size()));
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    std::printf("space: area frame %zu: %zu points, nbs %.1f ms, OctoMap %.1f ms\n", k, frames[k].size(), 1e3 * t_nbs[k],
+                1e3 * t_octo[k]);
+  nbs::bench::report_headline("space.area_frame_integrate_s", median(t_nbs),
+                              "target <= 0.033; 1 thread (integrate has no thread parameter), 5 mm");
+  nbs::bench::report_headline("space.area_frame_vs_octomap", median(t_octo) / median(t_nbs),
+                              "OctoMap insertPointCloud time / nbs, same points");
+}
+
 // ---- Headlines ------------------------------------------------------------------------------------------------------
 void headlines() {
   const auto& f = fixture();
@@ -274,6 +352,7 @@ void headlines() {
     nbs::bench::report_headline("space.machine_2thread_scaling", nbs::bench::machine_2thread_scaling(reps),
                                 "report: the same machine's ceiling, a throughput-bound integer loop");
   }
+  area_frame_headlines(nbs::bench::quick_mode() ? 1 : 3);  // ≈ 1.5 s a round (OctoMap ≈ 90 % of it)
 }
 
 }  // namespace
