@@ -22,6 +22,9 @@ for exe in "$dir"/benchmarks/bench_*; do
 done
 echo "--- headline figures"
 grep -o 'HEADLINE .*' "$log" | sed 's/^HEADLINE //'
+# Sections from "## Measured by hand" to the end of the file are written by people, not by this script: kept.
+kept=$(mktemp)
+[[ -f docs/performance.md ]] && sed -n '/^## Measured by hand/,$p' docs/performance.md > "$kept"
 {
   echo "# Performance"
   echo
@@ -33,6 +36,10 @@ grep -o 'HEADLINE .*' "$log" | sed 's/^HEADLINE //'
   echo "| figure | value | note |"
   echo "|---|---|---|"
   grep -o 'HEADLINE .*' "$log" | sed 's/^HEADLINE //' | sed -E 's/^([^:]+): ([^ ]+)( +\((.*)\))?$/| `\1` | \2 | \4 |/'
+  if [[ -s "$kept" ]]; then
+    echo
+    cat "$kept"
+  fi
 } > docs/performance.md
-rm -f "$log"
+rm -f "$log" "$kept"
 echo "bench: wrote docs/performance.md"
