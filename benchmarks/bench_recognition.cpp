@@ -17,7 +17,8 @@
 // reference point, pose clustering at 0.1 · nbs's model diameter and d_angle. What differs, by PCL's design: PCL
 // pairs a reference point with the scene points within half its model diameter (largest pair distance; nbs: the
 // full bounding-box diagonal), takes one accumulator peak per reference point (nbs: 3), and returns the best
-// cluster only. Quick mode leaves PCL out (its model build alone takes > 10 s). Recall: the share of views whose top hypothesis lies within 10 mm and 10° of the truth.
+// cluster only. Quick mode leaves PCL out (its model build alone takes > 10 s). Recall: the share of views whose
+// top hypothesis lies within 10 mm and 10° of the truth.
 
 #include <benchmark/benchmark.h>
 

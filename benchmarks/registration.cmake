@@ -17,16 +17,7 @@ if(TARGET nbs::embree)
       list(APPEND _nbs_reg_defs NBS_BENCH_HAVE_OPEN3D=1)
     endif()
   endif()
-  nbs_find_bench_pcl(_nbs_reg_pcl)
-  if(_nbs_reg_pcl)
-    list(APPEND _nbs_reg_sources ${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp)
-    # GCC 12 -Warray-bounds false positive inside Eigen's SSE float cross product, inlined from PCL's templates
-    # (reported at xmmintrin.h): this unit only, which holds no nbs code.
-    set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp PROPERTIES COMPILE_OPTIONS
-                                -Wno-array-bounds)
-    list(APPEND _nbs_reg_libs nbs_bench_pcl)
-    list(APPEND _nbs_reg_defs NBS_BENCH_HAVE_PCL=1)
-  endif()
+  nbs_add_bench_pcl_unit(${CMAKE_CURRENT_LIST_DIR}/registration_pcl.cpp _nbs_reg_sources _nbs_reg_libs _nbs_reg_defs)
   nbs_add_benchmark(registration SOURCES ${_nbs_reg_sources} LIBS ${_nbs_reg_libs})
   target_compile_definitions(bench_registration PRIVATE ${_nbs_reg_defs})
   message(STATUS "bench_registration incumbents: ${_nbs_reg_defs}")
