@@ -38,6 +38,8 @@ void report_robot_vs_free(bool quick);  // bench_motion_loop.cpp
 
 namespace {
 
+using nbs::bench::median;
+
 /// The sensor pose looking at `centre` from `standoff_m` at elevation e and azimuth az (radians), +y horizontal.
 nbs::Pose look_at(const nbs::Vec3& centre, double standoff_m, double e, double az) {
   const nbs::Vec3 eye = centre + standoff_m * nbs::Vec3(std::cos(e) * std::cos(az), std::cos(e) * std::sin(az),
@@ -102,10 +104,6 @@ int main() {
     std::printf("bench_motion: fewer than two reachable viewpoints\n");
     return 1;
   }
-  const auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-  };
   std::printf("solved %d of %zu transfers (%zu needed RRT-Connect, the others were straight); min %.1f ms, max %.1f "
               "ms\n",
               solved, ms.size(), searched_ms.size(), *std::min_element(ms.begin(), ms.end()),

@@ -33,6 +33,8 @@
 
 namespace {
 
+using nbs::bench::median;
+
 struct Fixture {
   nbs::IndexedMesh mesh;
   nbs::Aabb box;
@@ -51,13 +53,6 @@ nbs::PlannerSetting two_threads() {
   nbs::PlannerSetting s;
   s.threads = 2;
   return s;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 void BM_first_planning_step(benchmark::State& state) {

@@ -41,6 +41,8 @@
 
 namespace {
 
+using nbs::bench::median;
+
 struct View {
   nbs::OrientedPoints cluster;
   nbs::Pose truth;
@@ -144,10 +146,6 @@ int main(int argc, char** argv) {
     }
     std::printf("\n");
   }
-  const auto median = [](std::vector<double> x) {
-    std::sort(x.begin(), x.end());
-    return x.size() % 2 ? x[x.size() / 2] : 0.5 * (x[x.size() / 2 - 1] + x[x.size() / 2]);
-  };
   std::printf("recall (top hypothesis within 10 mm and 10 deg): nbs %d/%d", nbs_ok, views);
   if (pcl) std::printf(", pcl %d/%zu; median pcl %.1f ms", pcl_ok, pcl_ms.size(), median(pcl_ms));
   std::printf("\n");

@@ -68,17 +68,13 @@
 
 namespace {
 
+using nbs::bench::median;
+
 using nbs::Pose;
 using nbs::Vec3;
 
 constexpr int kExactScans = 3;  // scans integrated with exact poses before the first pair
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 double mean(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;

@@ -36,6 +36,14 @@ inline void report_headline(std::string_view name, double value, std::string_vie
   std::fflush(stdout);
 }
 
+/// Median of `v` (the mean of the two middle values for an even count); 0 for an empty vector.
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 /// Wall-clock seconds of one call of fn (steady clock).
 inline double seconds(const std::function<void()>& fn) {
   const auto t0 = std::chrono::steady_clock::now();
