@@ -29,6 +29,7 @@
 #include "headline.hpp"
 #include "nbs/embree/scene_scanner.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
+#include "nbs/explore/overview_ring_setting.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/octomap/insert_scan.hpp"
@@ -39,6 +40,8 @@
 #include "nbs/space/probabilistic_voxel_space.hpp"
 
 namespace {
+
+using nbs::bench::median;
 
 using nbs::Vec3;
 using LogOddsSpace = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
@@ -179,16 +182,14 @@ void area_frame_headlines(int reps, int n_frames) {
   const nbs::embree::SceneScanner scanner(sc);
   const nbs::Aabb box{to_float(Vec3(-0.3, -0.225, -0.01)), to_float(Vec3(0.3, 0.225, 0.3))};
   const nbs::AreaSensor xtion = nbs::presets::asus_xtion_pro();
-  const Vec3 target(0.0, 0.0, 0.05);
+  const nbs::explore::OverviewRingSetting ring;  // nbs_explore's overview geometry
   std::vector<nbs::Scan> frames;
   std::vector<octomap::Pointcloud> clouds;
   std::vector<octomap::point3d> origins;
   std::size_t cast = 0;
   for (int k = 0; k < n_frames; ++k) {
-    const double az = -0.5 * std::numbers::pi + 0.4 * std::numbers::pi * k, el = 35.0 * std::numbers::pi / 180.0;
-    const Vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-    const Vec3 eye = to_float(target + 0.75 * dir);
-    const nbs::Scan raw = scanner.scanner().scan(nbs::Viewpoint::look_at(eye, target, Vec3::UnitZ()), xtion, 100 + k);
+    const Vec3 eye = to_float(ring.eye(ring.step_azimuth(k)));
+    const nbs::Scan raw = scanner.scanner().scan(nbs::Viewpoint::look_at(eye, ring.target, Vec3::UnitZ()), xtion, 100 + k);
     cast += raw.rays_cast;
     nbs::Scan f;
     f.profile_poses = raw.profile_poses;
@@ -220,10 +221,6 @@ void area_frame_headlines(int reps, int n_frames) {
       t_octo[k] = std::min(t_octo[k], nbs::bench::seconds([&] { tree.insertPointCloud(clouds[k], origins[k]); }));
     }
   }
-  const auto median = [](std::vector<double> x) {
-    std::sort(x.begin(), x.end());
-    return x.size() % 2 ? x[x.size() / 2] : 0.5 * (x[x.size() / 2 - 1] + x[x.size() / 2]);
-  };
   std::printf("space: area frames: %zu Xtion frames, %zu rays cast, %zu points inside the space (%.0f per frame)\n",
               frames.size(), std::size_t(cast), points, double(points) / double(frames.size()));
   for (std::size_t k = 0; k < frames.size(); ++k)
@@ -298,7 +295,7 @@ void headlines() {
     std::vector<nbs::Ray> rays;
     for (int v = 0; v < 32; ++v) {
       const double az = 2.0 * std::numbers::pi * v / 32.0, el = 0.2 + 0.8 * (v % 4) / 4.0;
-      const Vec3 o = Vec3(0, 0, 0.08) + 0.3 * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      const Vec3 o = Vec3(0, 0, 0.08) + 0.3 * nbs::unit_from_angles(az, el);
       const auto vp = nbs::Viewpoint::look_at(o, Vec3(0, 0, 0.08));
       for (int i = 0; i < 32; ++i)
         for (int j = 0; j < 32; ++j) {

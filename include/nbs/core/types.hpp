@@ -30,6 +30,13 @@ using Mat3 = Eigen::Matrix3d;
 /// Rigid transform T_WS (sensor -> world), metres.
 using Pose = Eigen::Isometry3d;
 
+/// The unit vector at azimuth `azimuth_rad` (from +x towards +y) and elevation `elevation_rad` (above the x–y plane):
+/// (cos el cos az, cos el sin az, sin el).
+[[nodiscard]] inline Vec3 unit_from_angles(double azimuth_rad, double elevation_rad) {
+  return {std::cos(elevation_rad) * std::cos(azimuth_rad), std::cos(elevation_rad) * std::sin(azimuth_rad),
+          std::sin(elevation_rad)};
+}
+
 /// Tolerance used to decide that a rotation matrix is orthonormal with determinant +1.
 inline constexpr double kOrthonormalTolerance = 1e-6;
 

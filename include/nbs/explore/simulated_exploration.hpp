@@ -17,6 +17,7 @@
 #include "nbs/planner/nbs_planner.hpp"
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/driver/simulated_driver.hpp"
+#include "nbs/explore/overview_ring_setting.hpp"
 #include "nbs/explore/scene_exploration.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/sensor/presets.hpp"
@@ -37,30 +38,6 @@ struct SpaceSharingDriver {
   }
 };
 
-/// Where OverviewRing looks from. World frame, metres, radians.
-struct OverviewRingSetting {
-  Vec3 target = Vec3(0.0, 0.0, 0.05);       ///< the point every view looks at (the table centre, a little above)
-  double distance_m = 0.75;                 ///< eye to target
-  double elevation_rad = 35.0 * std::numbers::pi / 180.0;
-  double first_azimuth_rad = -0.5 * std::numbers::pi;  ///< step 0 looks from −y
-  double step_azimuth_rad = 0.4 * std::numbers::pi;    ///< 72° further per step
-  int frames_per_step = 3;                  ///< odd, ≥ 1: the middle one is returned, all are integrated
-  double frame_spread_rad = 20.0 * std::numbers::pi / 180.0;  ///< azimuth between neighbouring frames of a step
-
-  void validate() const {
-    detail::require(target.allFinite(), "OverviewRingSetting.target must be finite");
-    detail::require_positive("OverviewRingSetting.distance_m", distance_m);
-    detail::require(std::abs(elevation_rad) < 0.5 * std::numbers::pi,
-                    "OverviewRingSetting.elevation_rad must be in (-pi/2, pi/2), got ", elevation_rad);
-    for (const auto& [name, value] : {std::pair{"first_azimuth_rad", first_azimuth_rad},
-                                      std::pair{"step_azimuth_rad", step_azimuth_rad},
-                                      std::pair{"frame_spread_rad", frame_spread_rad}})
-      detail::require(std::isfinite(value), "OverviewRingSetting.", name, " must be finite, got ", value);
-    detail::require(frames_per_step >= 1 && frames_per_step % 2 == 1,
-                    "OverviewRingSetting.frames_per_step must be odd and >= 1, got ", frames_per_step);
-  }
-};
-
 /// OverviewSource: per step `frames_per_step` area-sensor frames around the target, all integrated into `space`
 /// (with the thesis's update model one frame leaves surface voxels below p = 0.75, so v_h needs several), the
 /// middle one returned. Frame i of the whole run uses noise seed seed · 1000 + i. Borrows scanner and space.
@@ -77,11 +54,10 @@ struct OverviewRing {
     setting.validate();
     Scan middle;
     const int half = setting.frames_per_step / 2;
-    const double a0 = setting.first_azimuth_rad + step * setting.step_azimuth_rad, el = setting.elevation_rad;
+    const double a0 = setting.step_azimuth(step);
     for (int k = -half; k <= half; ++k) {
       const double a = a0 + k * setting.frame_spread_rad;
-      const Vec3 eye = setting.target + setting.distance_m * Vec3(std::cos(el) * std::cos(a), std::cos(el) * std::sin(a),
-                                                                  std::sin(el));
+      const Vec3 eye = setting.eye(a);
       const auto frame = static_cast<std::uint64_t>(step * setting.frames_per_step + k + half);
       Scan s = scanner->scan(LinearScanPath(Viewpoint::look_at(eye, setting.target)), sensor, seed * 1000 + frame);
       (void)space->integrate(s);

@@ -61,7 +61,7 @@ inline Scan sphere_lsp_scan(const SphereLspSetup& s, const Vec3& position, std::
 // Viewpoint i of n on a ring of radius `distance` around the sphere (elevation 30°).
 inline Vec3 ring_position(const SphereLspSetup& s, int i, int n, double distance_m) {
   const double az = 2.0 * 3.14159265358979323846 * i / n, el = 0.5;
-  return s.center + distance_m * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  return s.center + distance_m * nbs::unit_from_angles(az, el);
 }
 
 }  // namespace nbs::test

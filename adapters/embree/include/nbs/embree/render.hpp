@@ -58,8 +58,7 @@ struct Camera {
     c.target = box.center();
     const double radius = std::max(0.5 * box.extent().norm(), 1e-6);
     const double dist = radius / std::sin(0.5 * vertical_fov_rad * fill);
-    c.eye = c.target + dist * Vec3(std::cos(elevation_rad) * std::cos(azimuth_rad),
-                                   std::cos(elevation_rad) * std::sin(azimuth_rad), std::sin(elevation_rad));
+    c.eye = c.target + dist * unit_from_angles(azimuth_rad, elevation_rad);
     return c;
   }
 };
