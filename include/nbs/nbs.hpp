@@ -129,6 +129,7 @@
 #include "nbs/sim/scan_path_length.hpp"
 #include "nbs/sim/test_objects.hpp"
 #include "nbs/sim/sphere_on_pedestal.hpp"
+#include "nbs/sim/surface_color.hpp"
 #include "nbs/sim/surface_samples.hpp"
 
 #include "nbs/space/all.hpp"

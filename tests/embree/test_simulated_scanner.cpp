@@ -150,3 +150,39 @@ TEST_CASE("scanner rejects invalid sensors and settings", "[embree][scanner][bad
                                                 {.pedestal_top_z_m = std::nan("")}),
                   nbs::InvalidArgument);
 }
+
+TEST_CASE("a two-coloured quad: every point gets the colour of its half; no colour without mesh colours",
+          "[embree][scanner][color]") {
+  const double z0 = 0.05, h = 0.1;
+  const nbs::Rgb red{255, 0, 0}, blue{0, 0, 255};
+  nbs::IndexedMesh quad;  // x < 0 red, x > 0 blue: two quads without shared vertices
+  for (double x0 : {-h, 0.0}) {
+    const auto b = static_cast<std::uint32_t>(quad.vertices.size());
+    quad.vertices.insert(quad.vertices.end(), {Vec3(x0, -h, z0), Vec3(x0 + h, -h, z0), Vec3(x0 + h, h, z0),
+                                               Vec3(x0, h, z0)});
+    quad.triangles.push_back({b, b + 1, b + 2});
+    quad.triangles.push_back({b, b + 2, b + 3});
+    quad.colors.insert(quad.colors.end(), 4, x0 < 0 ? red : blue);
+  }
+  const nbs::embree::SimulatedScanner scanner(quad);
+  REQUIRE(scanner.has_colors());
+  const nbs::Scan scan = scanner.scan(down_path(z0 + 0.3, 0.04), noiseless_lsp(), 1);
+  REQUIRE_NOTHROW(scan.validate());
+  REQUIRE(scan.colors.size() == scan.size());
+  std::size_t n_red = 0, n_blue = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const double x = scan.points[i].x();
+    if (std::abs(x) < 1e-5) continue;  // on the seam either colour is right
+    CHECK(scan.colors[i] == (x < 0 ? red : blue));
+    (x < 0 ? n_red : n_blue) += 1;
+  }
+  CHECK(n_red > 1000);
+  CHECK(n_blue > 1000);
+  // The same points as without colour; a mesh without colours gives scans without colours.
+  nbs::IndexedMesh plain = quad;
+  plain.colors.clear();
+  const nbs::embree::SimulatedScanner plain_scanner(plain);
+  const nbs::Scan same = plain_scanner.scan(down_path(z0 + 0.3, 0.04), noiseless_lsp(), 1);
+  CHECK_FALSE(same.has_colors());
+  CHECK(same.points == scan.points);
+}

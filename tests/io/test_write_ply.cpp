@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "nbs_catch.hpp"
 
+#include <fstream>
 #include <random>
 #include <sstream>
 
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/write_ply.hpp"
+#include "nbs/mesh/ply.hpp"
 #include "temp_dir.hpp"
 
 TEST_CASE("write_ply then load_mesh round-trips a mesh exactly in every encoding", "[io][ply]") {
@@ -45,4 +47,33 @@ TEST_CASE("write_ply_points writes points, normals and colours", "[io][ply]") {
   CHECK(bytes.size() - (bytes.find("end_header\n") + 11) == 2 * (6 * 8 + 3));
   CHECK_THROWS_AS(nbs::write_ply_points(path, p, std::vector<nbs::Vec3>(1)), nbs::InvalidArgument);
   CHECK_THROWS_WITH(nbs::write_ply_points("/nonexistent-dir/x.ply", p), nbs_test::Contains("cannot open"));
+}
+
+TEST_CASE("vertex colours round-trip through write_mesh_ply / write_ply and load_mesh; partial colours rejected",
+          "[io][ply][color]") {
+  nbs::IndexedMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0.5}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.colors = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {7, 128, 254}};
+  const std::string path = (nbs_test::temp_dir() / "colored.ply").string();
+  for (bool ascii : {true, false}) {
+    nbs::write_mesh_ply(path, m, ascii);
+    const nbs::IndexedMesh back = nbs::load_mesh(path);
+    CHECK(back.vertices == m.vertices);
+    CHECK(back.colors == m.colors);
+  }
+  nbs::write_ply(path, m, nbs::PlyFormat::binary_big_endian);
+  CHECK(nbs::load_mesh(path).colors == m.colors);
+  nbs::IndexedMesh plain = m;
+  plain.colors.clear();
+  nbs::write_mesh_ply(path, plain);
+  CHECK(nbs::load_mesh(path).colors.empty());
+  const std::string partial = (nbs_test::temp_dir() / "partial.ply").string();
+  {
+    std::ofstream out(partial);
+    out << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+           "property uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+           "0 0 0 1\n1 0 0 2\n0 1 0 3\n3 0 1 2\n";
+  }
+  CHECK_THROWS_WITH(nbs::load_mesh(partial), nbs_test::Contains("only some of the colour properties"));
 }

@@ -15,7 +15,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -26,6 +28,8 @@
 namespace nbs {
 
 using Vec3 = Eigen::Vector3d;
+/// 8-bit RGB colour (red, green, blue), e.g. of a measured point or a mesh vertex.
+using Rgb = std::array<std::uint8_t, 3>;
 using Mat3 = Eigen::Matrix3d;
 /// Rigid transform T_WS (sensor -> world), metres.
 using Pose = Eigen::Isometry3d;

@@ -10,10 +10,9 @@
 #include <span>
 #include <vector>
 
-namespace nbs {
+#include "nbs/core/types.hpp"  // Rgb
 
-/// 8-bit RGB colour.
-using Rgb = std::array<std::uint8_t, 3>;
+namespace nbs {
 
 /// Colour of a normalised utility u ∈ [0, 1]: red (u = 0, low) → yellow (0.5) → green (u = 1, high), as in
 /// Fig. 4.16. Values outside [0, 1] are clamped; NaN maps to red.

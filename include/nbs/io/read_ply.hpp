@@ -2,10 +2,12 @@
 #pragma once
 /// \file
 /// Strict PLY reader (ascii, binary little/big endian) for triangle meshes: `vertex` (x, y, z), `face`
-/// (polygons, fan-triangulated) and `tristrips` (−1 restarts a strip) elements; other elements and properties
-/// are skipped.
+/// (polygons, fan-triangulated) and `tristrips` (−1 restarts a strip) elements, and vertex colours (uchar or any
+/// integer-valued red green blue in [0, 255]) when present; other elements and properties are skipped.
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -164,6 +166,28 @@ struct PlyContents {
   return out;
 }
 
+/// The vertex colours of parsed PLY contents whose extras `first`, `first + 1`, `first + 2` (of `stride` per vertex)
+/// are red, green, blue: empty if the vertex element has none of them. Throws FileError if it has only some, or a
+/// value is not an integer in [0, 255].
+[[nodiscard]] inline std::vector<Rgb> ply_vertex_colors(const std::string& path, const PlyContents& c,
+                                                        std::size_t first, std::size_t stride) {
+  const int n = c.has_extra[first] + c.has_extra[first + 1] + c.has_extra[first + 2];
+  if (n == 0) return {};
+  if (n != 3)
+    throw FileError(detail::concat(path, ": element 'vertex' has only some of the colour properties red green blue"));
+  static constexpr const char* kNames[3] = {"red", "green", "blue"};
+  std::vector<Rgb> colors(c.vertices.size());
+  for (std::size_t i = 0; i < colors.size(); ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double v = c.extras[i * stride + first + k];
+      if (!(v >= 0.0 && v <= 255.0 && std::floor(v) == v))
+        throw FileError(detail::concat(path, ": element 'vertex' record ", i, ": colour ", kNames[k], " = ", v,
+                                       " is not an integer in [0, 255]"));
+      colors[i][k] = static_cast<std::uint8_t>(v);
+    }
+  return colors;
+}
+
 }  // namespace io_detail
 
 /// Reads a triangle mesh from a PLY file (metres are not assumed: coordinates are copied as stored).
@@ -171,18 +195,20 @@ struct PlyContents {
 /// alternating winding, −1 starting a new strip. Throws FileError naming the file, the line or element record
 /// and the problem for: a bad or truncated header, an unknown type, wrong property types (x/y/z lists, non-integer
 /// indices), truncated or surplus data, non-finite coordinates, faces with < 3 vertices, indices out of range,
-/// no triangle at all. Nothing is returned on failure.
+/// no triangle at all, only some of red green blue or a colour that is not an integer in [0, 255]. Nothing is returned on failure.
 [[nodiscard]] inline IndexedMesh read_ply(const std::string& path);
 
 /// read_ply of a file's contents held in memory: `bytes` is the whole file, `path` names it in the messages.
 /// The same checks and errors as read_ply.
 [[nodiscard]] inline IndexedMesh read_ply_bytes(const std::string& path, const std::string& bytes) {
-  io_detail::PlyContents c = io_detail::parse_ply(path, bytes);
+  static constexpr std::array<std::string_view, 3> kColors = {"red", "green", "blue"};
+  io_detail::PlyContents c = io_detail::parse_ply(path, bytes, kColors);
   if (c.triangles.empty() && !c.vertices.empty())
     throw FileError(detail::concat(path, ": ", c.vertices.size(),
                                    " vertices and no faces: a point cloud, not a mesh (read it with read_ply_points or "
                                    "load_point_cloud)"));
   IndexedMesh mesh;
+  mesh.colors = io_detail::ply_vertex_colors(path, c, 0, kColors.size());
   mesh.vertices = std::move(c.vertices);
   mesh.triangles = std::move(c.triangles);
   return detail::finish_mesh(path, std::move(mesh));

@@ -30,13 +30,14 @@ namespace nbs {
                                      kExtras[first], " ", kExtras[first + 1], " ", kExtras[first + 2]));
     return n == 3;
   };
-  const bool normals = group(0, "normal"), colors = group(3, "colour");
+  const bool normals = group(0, "normal");
+  std::vector<Rgb> colors = io_detail::ply_vertex_colors(path, c, 3, kExtras.size());
   if (c.vertices.empty()) throw FileError(detail::concat(path, ": the point cloud has no points"));
   PointCloud cloud;
   cloud.points = std::move(c.vertices);
   const std::size_t n = cloud.points.size();
   if (normals) cloud.normals.resize(n);
-  if (colors) cloud.colors.resize(n);
+  cloud.colors = std::move(colors);
   for (std::size_t i = 0; i < n; ++i) {
     const double* e = &c.extras[i * kExtras.size()];
     if (normals) {
@@ -44,15 +45,6 @@ namespace nbs {
       if (!cloud.normals[i].allFinite())
         throw FileError(detail::concat(path, ": element 'vertex' record ", i, ": non-finite normal (",
                                        cloud.normals[i].transpose(), ")"));
-    }
-    if (colors) {
-      for (int k = 0; k < 3; ++k) {
-        const double v = e[3 + k];
-        if (!(v >= 0.0 && v <= 255.0 && std::floor(v) == v))
-          throw FileError(detail::concat(path, ": element 'vertex' record ", i, ": colour ", kExtras[3 + k], " = ", v,
-                                         " is not an integer in [0, 255]"));
-        cloud.colors[i][static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(v);
-      }
     }
   }
   return cloud;

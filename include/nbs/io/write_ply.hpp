@@ -44,7 +44,8 @@ inline void write_ply_points(const std::string& path, std::span<const Vec3> poin
   w.finish();
 }
 
-/// Writes an indexed triangle mesh (double x y z; faces as `list uchar uint vertex_indices`).
+/// Writes an indexed triangle mesh (double x y z, uchar red green blue if the mesh has colours; faces as
+/// `list uchar uint vertex_indices`).
 /// Throws InvalidArgument if the mesh violates its invariants, FileError if the file cannot be written.
 inline void write_ply(const std::string& path, const IndexedMesh& mesh,
                       PlyFormat format = PlyFormat::binary_little_endian) {
@@ -53,11 +54,15 @@ inline void write_ply(const std::string& path, const IndexedMesh& mesh,
   w.comment("written by nbs");
   w.element("vertex", mesh.vertices.size());
   for (const char* name : {"x", "y", "z"}) w.property(PlyType::f64, name);
+  if (!mesh.colors.empty())
+    for (const char* name : {"red", "green", "blue"}) w.property(PlyType::u8, name);
   w.element("face", mesh.triangles.size());
   w.list_property(PlyType::u8, PlyType::u32, "vertex_indices");
   w.end_header();
-  for (const Vec3& v : mesh.vertices) {
-    for (int k = 0; k < 3; ++k) w.value(v[k]);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    for (int k = 0; k < 3; ++k) w.value(mesh.vertices[i][k]);
+    if (!mesh.colors.empty())
+      for (std::uint8_t c : mesh.colors[i]) w.value(c);
     w.end_record();
   }
   for (const auto& t : mesh.triangles) {

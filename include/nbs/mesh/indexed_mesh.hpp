@@ -12,7 +12,8 @@
 namespace nbs {
 
 /// Owning indexed triangle mesh. Coordinates in metres (world frame once normalised).
-/// Invariants (checked by `validate()`): every vertex finite, every index < vertices.size().
+/// Invariants (checked by `validate()`): every vertex finite, every index < vertices.size(), normals and colours
+/// empty or one per vertex.
 /// Degenerate (zero-area) triangles are allowed in the container; algorithms that cannot use them skip them.
 struct IndexedMesh {
   using Triangle = std::array<std::uint32_t, 3>;
@@ -20,6 +21,7 @@ struct IndexedMesh {
   std::vector<Vec3> vertices;      ///< \#V vertex positions.
   std::vector<Triangle> triangles; ///< \#F triangles, counter-clockwise seen from outside where known.
   std::vector<Vec3> normals;       ///< optional per-vertex unit normals: empty, or one per vertex.
+  std::vector<Rgb> colors;         ///< optional per-vertex colours: empty, or one per vertex.
 
   [[nodiscard]] bool empty() const { return triangles.empty(); }
 
@@ -56,6 +58,8 @@ struct IndexedMesh {
       detail::require(vertices[i].allFinite(), "mesh vertex ", i, " is not finite: (", vertices[i].transpose(), ")");
     detail::require(normals.empty() || normals.size() == vertices.size(), "mesh has ", normals.size(),
                     " normals for ", vertices.size(), " vertices");
+    detail::require(colors.empty() || colors.size() == vertices.size(), "mesh has ", colors.size(),
+                    " colours for ", vertices.size(), " vertices");
     bool any_area = false;
     for (std::size_t t = 0; t < triangles.size(); ++t) {
       for (auto i : triangles[t])

@@ -73,4 +73,12 @@ concept KnowsFaceBorders = EdgeMesh<M> && requires(const M& m, std::size_t f) {
   { m.border_mask(f) } -> std::convertible_to<unsigned>;
 };
 
+/// Capability of an EdgeMesh that fuses a colour per vertex (Sec. 5.3): `has_colors()` is true once it holds colour,
+/// then `color(v)` is vertex v's fused 8-bit RGB colour (StreamingMesh: the mean of the measurements, see there).
+template <class M>
+concept ColoredMesh = EdgeMesh<M> && requires(const M& m, VertexId v) {
+  { m.has_colors() } -> std::convertible_to<bool>;
+  { m.color(v) } -> std::convertible_to<Rgb>;
+};
+
 }  // namespace nbs

@@ -14,12 +14,22 @@
 /// so the cost per point does not grow with the model. Points outside the bounding box of the unknown area are
 /// dropped (pass-through filter, Sec. 4.1). Faces created or changed since `begin_scan()` form M_cur (Sec. 4.2).
 ///
+/// Colour (Sec. 5.3): a point inserted with a colour (insert(p, los, colour), or integrate() of a Scan with colours)
+/// adds it to one stored vertex — the vertex it creates, or, when the density limitation drops it, the stored point
+/// that rejected it (within R_r of the point, or with density_depth_m within R_r of its line of sight; the first found,
+/// not necessarily the nearest). color(v) is the rounded per-channel mean of all colours added to v. Rule chosen
+/// because the density limitation keeps only the first of the measurements within R_r of a vertex: the mean uses all
+/// of them (it averages out per-measurement noise and blurs colour edges by at most about R_r), while picking one
+/// measurement (e.g. the best incidence) would keep its noise. The colour storage is allocated on the first coloured
+/// point: a mesh fed only scans without colour pays nothing.
+///
 /// Units: metres, world frame. Not thread-safe; const members may be called concurrently when no thread writes.
 ///
 /// The settings and counters are in streaming_mesh_settings.hpp; insert() and its normal and triangulation stages
 /// are defined in detail/streaming_mesh_impl.hpp (included at the end).
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <iterator>
 #include <numbers>
@@ -65,6 +75,9 @@ public:
   /// Throws InvalidArgument, changing nothing, if `p` or `line_of_sight` is not finite, the line of sight has no
   /// length (≤ 1e-12), or `p` lies beyond ±settings().max_abs_coordinate_m() on an axis.
   InsertResult insert(const Vec3& p, const Vec3& line_of_sight);
+  /// insert(p, line_of_sight) of a point measured with colour `color`, which is then added to the vertex the point
+  /// created or, if it was too close, to the stored point that rejected it (see the file comment). The same errors.
+  InsertResult insert(const Vec3& p, const Vec3& line_of_sight, const Rgb& color);
 
   /// Throws InvalidArgument naming the first offending index and value unless integrate(scan) can take every point:
   /// Scan::validate() holds, every point lies within ±settings().max_abs_coordinate_m() on each axis (whether or not
@@ -82,15 +95,19 @@ public:
   }
 
   /// check_scan(scan), then — unless the scan is empty, which changes nothing — begin_scan(its first profile pose)
-  /// and insert() every point with its line of sight. All or nothing: a scan check_scan rejects changes nothing.
-  /// Returns the points meshed.
+  /// and insert() every point with its line of sight (and its colour, if the scan has colours). All or nothing: a
+  /// scan check_scan rejects changes nothing. Returns the points meshed.
   std::size_t integrate(const Scan& scan) {
     check_scan(scan);
     if (scan.empty()) return 0;
     begin_scan(scan.profile_poses.front());
     std::size_t meshed = 0;
-    for (std::size_t i = 0; i < scan.points.size(); ++i)
-      meshed += insert(scan.points[i], scan.line_of_sight(i)) == InsertResult::meshed ? 1 : 0;
+    const bool colored = scan.has_colors();
+    for (std::size_t i = 0; i < scan.points.size(); ++i) {
+      const InsertResult r = colored ? insert(scan.points[i], scan.line_of_sight(i), scan.colors[i])
+                                     : insert(scan.points[i], scan.line_of_sight(i));
+      meshed += r == InsertResult::meshed ? 1 : 0;
+    }
     return meshed;
   }
 
@@ -169,6 +186,20 @@ public:
     return false;
   }
 
+  // --- Colour (ColoredMesh) -----------------------------------------------------------------------------------
+  /// True once a point with colour was inserted.
+  [[nodiscard]] bool has_colors() const { return !color_count_.empty(); }
+  /// Number of colours added to vertex v (0: none, e.g. v was stored from a point without colour).
+  [[nodiscard]] std::uint32_t color_count(VertexId v) const { return v < color_count_.size() ? color_count_[v] : 0; }
+  /// Fused colour of v: the rounded per-channel mean of the colours added to it; black if none was.
+  [[nodiscard]] Rgb color(VertexId v) const {
+    const std::uint32_t n = color_count(v);
+    if (n == 0) return {0, 0, 0};
+    Rgb c{};
+    for (std::size_t k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>((color_sum_[v][k] + n / 2) / n);
+    return c;
+  }
+
   // --- Analysis -------------------------------------------------------------------------------------------------
   /// True once v has a robust normal (it is a mesh vertex, possibly without triangles yet).
   [[nodiscard]] bool has_normal(VertexId v) const { return nrm_[v].squaredNorm() > 0.0; }
@@ -197,7 +228,8 @@ public:
            attempt_.capacity() * sizeof(std::uint32_t) + faces_.memory_bytes() + grid_.memory_bytes() +
            tri_.memory_bytes() + cached_of_.capacity() * sizeof(std::uint32_t) + cached_bytes() +
            moments_of_.capacity() * sizeof(std::uint32_t) + moments_.capacity() * sizeof(BallMoments) +
-           free_moments_.capacity() * sizeof(std::uint32_t);
+           free_moments_.capacity() * sizeof(std::uint32_t) + color_count_.capacity() * sizeof(std::uint32_t) +
+           color_sum_.capacity() * sizeof(std::array<std::uint64_t, 3>);
   }
 
 private:
@@ -336,6 +368,9 @@ private:
   std::vector<Eigen::Vector3f> los_;        ///< unit line of sight, kept for pending re-estimation.
   std::vector<std::uint32_t> count_;        ///< N_act.
   std::vector<std::uint32_t> attempt_;      ///< N_act at the last failed normal estimation (0 = never tried).
+  std::vector<std::uint32_t> color_count_;  ///< colours added per vertex; empty until the first coloured point,
+                                            ///< then grown lazily (may be shorter than pos_: missing = 0).
+  std::vector<std::array<std::uint64_t, 3>> color_sum_;  ///< per vertex: sum of the colours added, per channel.
   detail::FaceStore faces_;
   detail::SpatialHash grid_;
   detail::LocalTriangulator tri_;
@@ -376,6 +411,7 @@ public:
 static_assert(EdgeMesh<StreamingMesh>);
 static_assert(TracksCurrentScan<StreamingMesh>);
 static_assert(KnowsFaceBorders<StreamingMesh>);
+static_assert(ColoredMesh<StreamingMesh>);
 
 }  // namespace nbs
 

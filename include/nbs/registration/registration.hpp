@@ -60,7 +60,7 @@ struct RegistrationResult {
   [[nodiscard]] bool applied() const { return status == RegistrationStatus::applied; }
 };
 
-/// A copy of `scan` moved rigidly by `correction` (world → world): profile poses C·T_WS, points C·p.
+/// A copy of `scan` moved rigidly by `correction` (world → world): profile poses C·T_WS, points C·p (colours kept).
 /// Throws InvalidArgument if `correction` is not finite and rigid.
 [[nodiscard]] inline Scan transformed(const Scan& scan, const Pose& correction) {
   validate_pose(correction, "registration correction");

@@ -41,19 +41,33 @@ public:
 
   [[nodiscard]] const IndexedMesh& mesh() const { return mesh_; }
 
-  /// Exact distance from `q` to the nearest point of any triangle. Throws InvalidArgument if `q` is not finite.
-  [[nodiscard]] double distance(const Vec3& q) const {
+  /// The nearest surface point of a query: its triangle, the point and its distance (metres).
+  struct Closest {
+    std::size_t triangle = 0;
+    Vec3 point = Vec3::Zero();
+    double distance = 0.0;
+  };
+
+  /// Exact nearest point to `q` on any triangle (ties: the triangle found first). Throws InvalidArgument if `q` is
+  /// not finite.
+  [[nodiscard]] Closest closest(const Vec3& q) const {
     validate_finite(q, "distance query point");
     const auto [t0, d2] = tree_.nearest(q);
-    double best = triangle_distance(q, t0);
+    Closest best{t0, Vec3::Zero(), triangle_distance(q, t0)};
     // Slack covers the rounding of the centroid distances, so no candidate is lost to it.
-    const double bound = best + max_radius_ + 1e-9 * (best + max_radius_ + std::sqrt(d2));
+    const double bound = best.distance + max_radius_ + 1e-9 * (best.distance + max_radius_ + std::sqrt(d2));
     tree_.for_each_within(q, bound, [&](std::size_t t, double dc2) {
-      if (std::sqrt(dc2) - radius_[t] >= best) return;
-      best = std::min(best, triangle_distance(q, t));
+      if (std::sqrt(dc2) - radius_[t] >= best.distance) return;
+      const double d = triangle_distance(q, t);
+      if (d < best.distance) best.triangle = t, best.distance = d;
     });
+    best.point = closest_point_on_triangle(q, mesh_.corner(best.triangle, 0), mesh_.corner(best.triangle, 1),
+                                           mesh_.corner(best.triangle, 2));
     return best;
   }
+
+  /// Exact distance from `q` to the nearest point of any triangle. Throws InvalidArgument if `q` is not finite.
+  [[nodiscard]] double distance(const Vec3& q) const { return closest(q).distance; }
 
   /// Distances of all points (index-aligned), computed on `threads` threads (0 = hardware concurrency).
   [[nodiscard]] std::vector<double> distances(std::span<const Vec3> points, unsigned threads = 0) const {

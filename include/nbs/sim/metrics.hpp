@@ -11,4 +11,5 @@
 #include "nbs/sim/observability.hpp"
 #include "nbs/sim/point_triangle_distance.hpp"
 #include "nbs/sim/scan_path_length.hpp"
+#include "nbs/sim/surface_color.hpp"
 #include "nbs/sim/surface_samples.hpp"

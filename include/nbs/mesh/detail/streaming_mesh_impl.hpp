@@ -16,6 +16,20 @@
 
 namespace nbs {
 
+inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sight, const Rgb& color) {
+  const auto created = static_cast<VertexId>(pos_.size());
+  const InsertResult r = insert(p, line_of_sight);  // throws before any change
+  if (r == InsertResult::outside) return r;
+  const VertexId v = r == InsertResult::too_close ? last_close_ : created;  // too_close() leaves the rejecter there
+  if (color_count_.size() <= v) {
+    color_count_.resize(pos_.size(), 0);
+    color_sum_.resize(pos_.size(), {0, 0, 0});
+  }
+  ++color_count_[v];
+  for (std::size_t k = 0; k < 3; ++k) color_sum_[v][k] += color[k];
+  return r;
+}
+
 inline InsertResult StreamingMesh::insert(const Vec3& p, const Vec3& line_of_sight) {
   detail::require(p.allFinite(), "StreamingMesh::insert: point is not finite: (", p.transpose(), ")");
   const double los_norm = line_of_sight.norm();

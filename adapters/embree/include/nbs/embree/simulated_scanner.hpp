@@ -17,6 +17,7 @@
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
+#include "nbs/sim/surface_color.hpp"
 
 namespace nbs::embree {
 
@@ -38,7 +39,11 @@ struct ScannerSettings {
 ///   when the origin is below its top or the hit lies below it, so the object's bottom is not scannable;
 /// - the point is o + (d + σ(d)·ε) r with ε ~ N(0, 1) drawn from CounterGaussian(seed) at (profile, ray index):
 ///   the same seed gives an identical scan, whatever the thread count. The noisy point may lie slightly
-///   outside the working range.
+///   outside the working range;
+/// - colour (Sec. 5.3): if the mesh has vertex colours (IndexedMesh::colors, e.g. read from PLY or
+///   `procedural_colors`), every point gets the colour of the true hit point (surface_color: barycentric
+///   interpolation on the hit triangle, found by a second, single ray per hit), noise-free; else the scan has no
+///   colours. A scanner built from a Scene has no colours.
 class SimulatedScanner {
 public:
   using Settings = ScannerSettings;
@@ -50,7 +55,9 @@ public:
 
   /// Builds the Embree scene of `mesh` (see Scene).
   explicit SimulatedScanner(const IndexedMesh& mesh, Settings settings = {})
-      : SimulatedScanner(Scene(mesh), settings) {}
+      : SimulatedScanner(Scene(mesh), settings) {
+    if (!mesh.colors.empty()) colored_ = mesh;
+  }
   explicit SimulatedScanner(Scene scene, Settings settings = {}) : scene_(std::move(scene)), settings_(settings) {
     if (settings_.pedestal_top_z_m)
       nbs::detail::require(std::isfinite(*settings_.pedestal_top_z_m),
@@ -98,6 +105,8 @@ public:
   }
 
   [[nodiscard]] const Scene& scene() const { return scene_; }
+  /// True if the scans carry colours (the mesh had vertex colours).
+  [[nodiscard]] bool has_colors() const { return !colored_.colors.empty(); }
   [[nodiscard]] const Settings& settings() const { return settings_; }
 
 private:
@@ -123,12 +132,19 @@ private:
       const Vec3& dir = buf.world[i];
       if (pz && o.z() + d * dir.z() < *pz) continue;
       const double measured = noise.is_zero() ? d : d + noise.sigma_m(d) * gauss(profile, i);
-      out.add_point(o + measured * dir, profile);
+      if (!has_colors()) {
+        out.add_point(o + measured * dir, profile);
+        continue;
+      }
+      const std::optional<RayHit> hit = scene_.first_hit(o, dir);  // the hit triangle (cast_fan gives distances)
+      out.add_point(o + measured * dir, profile,
+                    hit ? surface_color(colored_, hit->triangle, o + hit->distance * dir) : Rgb{0, 0, 0});
     }
   }
 
   Scene scene_;
   Settings settings_;
+  IndexedMesh colored_;  ///< the mesh with its vertex colours; empty without colour
 };
 
 }  // namespace nbs::embree
