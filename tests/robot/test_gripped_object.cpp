@@ -113,7 +113,8 @@ TEST_CASE("gripped object: the finger filter removes exactly the points within t
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-0.06, 0.06);
   nbs::Scan scan;
-  scan.profile_poses = {make_pose(Mat3::Identity(), Vec3(0, 0, -0.3)), make_pose(Mat3::Identity(), Vec3(0, 0.01, -0.3))};
+  scan.profile_poses = {make_pose(Mat3::Identity(), Vec3(0, 0, -0.3)),
+                        make_pose(Mat3::Identity(), Vec3(0, 0.01, -0.3))};
   std::vector<Vec3> expected;
   std::vector<std::uint32_t> expected_profile;
   for (int i = 0; i < 4000; ++i) {
