@@ -47,6 +47,10 @@
 #include "nbs/explore/scene_exploration.hpp"
 #include "nbs/explore/simulated_exploration.hpp"
 
+#include "nbs/gripped/gripped_driver.hpp"
+#include "nbs/gripped/gripped_object.hpp"
+#include "nbs/gripped/gripped_simulation.hpp"
+
 #include "nbs/io/color.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/io/load_point_cloud.hpp"

@@ -9,6 +9,7 @@ TEST_CASE("the umbrella header nbs/nbs.hpp gives a symbol of every folder", "[co
   CHECK(nbs::CandidateStatus::empty_mesh != nbs::CandidateStatus::no_holes);  // candidates
   CHECK(nbs::utility_color(1.0) == nbs::Rgb{0, 255, 0});  // io
   CHECK(nbs::IndexedMesh{}.vertices.empty());  // mesh
+  CHECK(nbs::GrippedSetup{}.fingers.empty());  // gripped
   CHECK(nbs::format_method(nbs::parse_method("C_H")) == "C_H");  // planner
   CHECK(nbs::HypothesisQuality{}.q_h() == 0.0);  // recognition
   CHECK(nbs::FreeFlyingSensor{}.joint_count() == 6);  // robot
