@@ -137,14 +137,14 @@ int main(int argc, char** argv) {
   std::printf("database: %zu models, PPF tables built in %.1f s; scenes %d (seeds %llu..%llu) x %d views%s\n",
               db.models().size(), build_s, scenes, static_cast<unsigned long long>(seed0),
               static_cast<unsigned long long>(seed0 + scenes - 1), views, quick ? " (quick)" : "");
-  std::printf("scene set: %s (footprints %.0f mm apart%s)\n", close_set ? "close" : "standard", 1e3 * st.min_gap_m,
-              close_set ? " or more, each within 15 mm of a neighbour" : " or more");
 
   scene::SceneSettings st;
   st.table_size_x_m = 0.7;
   st.table_size_y_m = 0.5;
   st.min_gap_m = close_set ? 0.003 : 0.02;
   if (close_set) st.max_gap_m = 0.015;
+  std::printf("scene set: %s (footprints %.0f mm apart%s)\n", close_set ? "close" : "standard", 1e3 * st.min_gap_m,
+              close_set ? " or more, each within 15 mm of a neighbour" : " or more");
   const Aabb bounds(Vec3(-0.5 * st.table_size_x_m, -0.5 * st.table_size_y_m, st.table_height_m - 0.01),
                     Vec3(0.5 * st.table_size_x_m, 0.5 * st.table_size_y_m, st.table_height_m + 0.3));
   const AreaSensor xtion = presets::asus_xtion_pro();

@@ -3,6 +3,7 @@
 // Embree scanner on a small analytic sphere on the pedestal. Lean: a 128 × 96 image, 5 mm voxels, four scans.
 
 #include "nbs_catch.hpp"
+#include "nbs_small_camera.hpp"
 
 #include <vector>
 
@@ -21,17 +22,7 @@ using AreaPlanner = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpac
 static_assert(nbs::ScanSimulator<nbs::embree::SimulatedScanner, nbs::AreaSensor>);
 static_assert(nbs::ScanSimulator<nbs::embree::SimulatedScanner, nbs::LaserStripeProfiler>);
 
-/// A small close-range depth camera: 0.15–0.45 m, ≈ 1.5 mm pixels at d_s = 0.3 m, σ = 0.2 mm.
-nbs::AreaSensor small_camera() {
-  nbs::AreaSensor s;
-  s.width_px = 128;
-  s.height_px = 96;
-  s.horizontal_fov_rad = 0.6;
-  s.vertical_fov_rad = 0.45;
-  s.range = {0.15, 0.45};
-  s.noise = nbs::RangeNoise::constant(0.0002);
-  return s;
-}
+using nbs_test::small_camera;
 
 /// Validates every scan it returns and checks it is one frame at the start of the path it was given.
 struct CheckedScanner {

@@ -4,6 +4,7 @@
 // the two models are aligned (PPF + ICP) and merged. Lean: a 128 × 96 depth camera, 5 mm voxels, 4 scans each.
 
 #include "nbs_catch.hpp"
+#include "nbs_small_camera.hpp"
 
 #include <cmath>
 
@@ -21,16 +22,7 @@ namespace {
 using nbs::Vec3;
 using AreaPlanner = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::AreaSensor>;
 
-nbs::AreaSensor small_camera() {
-  nbs::AreaSensor s;
-  s.width_px = 128;
-  s.height_px = 96;
-  s.horizontal_fov_rad = 0.6;
-  s.vertical_fov_rad = 0.45;
-  s.range = {0.15, 0.45};
-  s.noise = nbs::RangeNoise::constant(0.0002);
-  return s;
-}
+using nbs_test::small_camera;
 
 nbs::IndexedMesh l_block() {
   nbs::IndexedMesh l = nbs::test::box_mesh({-0.04, -0.025, 0.0}, {0.04, 0.025, 0.03});

@@ -63,6 +63,17 @@ TEST_CASE("merge_models: the union in a's frame; bad input is refused", "[recogn
   CHECK(m.triangles.back()[0] == b.triangles.back()[0] + a.vertices.size());
   CHECK((m.vertices.back() - T * b.vertices.back()).norm() < 1e-15);
   CHECK((m.normals.back() - Vec3(0, -1, 0)).norm() < 1e-12);
+  a.colors.assign(a.vertices.size(), Rgb{200, 10, 10});
+  b.colors.assign(b.vertices.size(), Rgb{10, 10, 200});
+  const IndexedMesh coloured = merge_models(a, b, T);
+  REQUIRE(coloured.colors.size() == coloured.vertices.size());
+  CHECK(coloured.colors.front() == a.colors.front());
+  CHECK(coloured.colors.back() == b.colors.back());
+  CHECK_NOTHROW(coloured.validate());
+  b.colors.pop_back();
+  CHECK_THROWS_AS(merge_models(a, b, T), InvalidArgument);  // a colour count that is not the vertex count
+  b.colors.clear();
+  CHECK(merge_models(a, b, T).colors.empty());  // colours only if both have them
   b.normals.clear();
   CHECK(merge_models(a, b, T).normals.empty());  // normals only if both have them
 

@@ -117,17 +117,20 @@ TEST_CASE("gripped object: the finger filter removes exactly the points within t
                         make_pose(Mat3::Identity(), Vec3(0, 0.01, -0.3))};
   std::vector<Vec3> expected;
   std::vector<std::uint32_t> expected_profile;
+  std::vector<nbs::Rgb> expected_colors;  // colours stay with their points
   for (int i = 0; i < 4000; ++i) {
     const Vec3 p(u(rng), u(rng), 0.03 + u(rng));
     const auto k = static_cast<std::uint32_t>(i % 2);
-    scan.add_point(p, k);
-    if (!near_finger(p)) expected.push_back(p), expected_profile.push_back(k);
+    const nbs::Rgb c{static_cast<std::uint8_t>(i % 256), static_cast<std::uint8_t>(i / 256), 7};
+    scan.add_point(p, k, c);
+    if (!near_finger(p)) expected.push_back(p), expected_profile.push_back(k), expected_colors.push_back(c);
   }
   const std::size_t removed = nbs::remove_finger_points(setup, scan);
   REQUIRE(removed > 100);  // the oracle's finger band is hit by the draw
   CHECK(removed + expected.size() == 4000);
   REQUIRE(scan.points == expected);
   CHECK(scan.profile_of_point == expected_profile);
+  CHECK(scan.colors == expected_colors);
   CHECK(scan.profile_poses.size() == 2);
   CHECK_NOTHROW(scan.validate());
 }

@@ -129,7 +129,7 @@ inline void require_object_in_tool_box(const GrippedSetup& setup, const Aabb& ob
 }
 
 /// Removes from `scan` (in O) every point with finger_distance ≤ setup.finger_margin_m, keeping the order of the
-/// others and every profile pose; returns the number removed. The removed points are dropped entirely: they neither
+/// others (with their colours) and every profile pose; returns the number removed. The removed points are dropped entirely: they neither
 /// add surface nor clear free space along their rays (the voxel space then learns a little less free space in front
 /// of the fingers; the planner still sees the fingers' shadow as unknown). Throws InvalidArgument (nothing changed)
 /// if the set-up or the scan is invalid. Cost: O(points × fingers).
@@ -141,11 +141,13 @@ inline std::size_t remove_finger_points(const GrippedSetup& setup, Scan& scan) {
     if (finger_distance(setup.fingers, scan.points[i]) <= setup.finger_margin_m) continue;
     scan.points[kept] = scan.points[i];
     scan.profile_of_point[kept] = scan.profile_of_point[i];
+    if (scan.has_colors()) scan.colors[kept] = scan.colors[i];
     ++kept;
   }
   const std::size_t removed = scan.points.size() - kept;
   scan.points.resize(kept);
   scan.profile_of_point.resize(kept);
+  if (scan.has_colors()) scan.colors.resize(kept);
   return removed;
 }
 

@@ -15,7 +15,7 @@
 namespace nbs {
 
 /// The ground-truth scene in O: `object` (in O, metres) with the finger shapes appended as triangles (shapes_mesh;
-/// per-vertex normals dropped). Throws InvalidArgument (require_object_in_tool_box: the sizes named) if the object
+/// per-vertex normals dropped; an object's vertex colours kept, the fingers' vertices grey 128). Throws InvalidArgument (require_object_in_tool_box: the sizes named) if the object
 /// does not fit into the tool box, or if the set-up or mesh is invalid.
 [[nodiscard]] inline IndexedMesh gripped_scene_mesh(const GrippedSetup& setup, const IndexedMesh& object) {
   object.validate();
@@ -23,6 +23,7 @@ namespace nbs {
   IndexedMesh out = object;
   out.normals.clear();
   for (const PlacedShape& f : setup.fingers) append_shape_mesh(out, f);
+  if (!out.colors.empty()) out.colors.resize(out.vertices.size(), Rgb{128, 128, 128});
   return out;
 }
 

@@ -129,13 +129,15 @@ struct ModelAlignment {
 }
 
 /// One model of both sessions in a's frame: a's vertices and triangles, then b's moved by T_ab (indices offset by
-/// a's vertex count); normals (moved by R_ab) if both have them, else none. No re-meshing: where both models cover
+/// a's vertex count); normals (moved by R_ab) if both have them, else none; vertex colours if both have them, else none. No re-meshing: where both models cover
 /// the surface, both layers stay. Throws InvalidArgument if T_ab is not rigid or a model has bad indices/normals.
 [[nodiscard]] inline IndexedMesh merge_models(const IndexedMesh& a, const IndexedMesh& b, const Pose& T_ab) {
   validate_pose(T_ab, "merge_models: T_ab");
   for (const IndexedMesh* m : {&a, &b}) {
     detail::require(m->normals.empty() || m->normals.size() == m->vertices.size(), "merge_models: a model has ",
                     m->normals.size(), " normals for ", m->vertices.size(), " vertices");
+    detail::require(m->colors.empty() || m->colors.size() == m->vertices.size(), "merge_models: a model has ",
+                    m->colors.size(), " colours for ", m->vertices.size(), " vertices");
     for (std::size_t t = 0; t < m->triangles.size(); ++t)
       for (const auto i : m->triangles[t])
         detail::require(i < m->vertices.size(), "merge_models: triangle ", t, " refers to vertex ", i, " of ",
@@ -149,6 +151,8 @@ struct ModelAlignment {
   if (!normals) out.normals.clear();
   else
     for (const Vec3& n : b.normals) out.normals.push_back(T_ab.linear() * n);
+  if (a.colors.empty() || b.colors.empty()) out.colors.clear();
+  else out.colors.insert(out.colors.end(), b.colors.begin(), b.colors.end());
   return out;
 }
 

@@ -20,8 +20,12 @@ namespace nbs {
 
 /// Colour of the point `p` of triangle `t` of `mesh` (which must have colours): the vertex colours weighted by the
 /// barycentric coordinates of p's projection onto the triangle's plane, clamped to the triangle, rounded per channel.
-/// A zero-area triangle gives the colour of its corner nearest to p.
+/// A zero-area triangle gives the colour of its corner nearest to p. Throws InvalidArgument if t is out of range or
+/// the mesh has no colour per vertex.
 [[nodiscard]] inline Rgb surface_color(const IndexedMesh& mesh, std::size_t t, const Vec3& p) {
+  detail::require(t < mesh.triangles.size(), "surface_color: triangle ", t, " of ", mesh.triangles.size());
+  detail::require(mesh.colors.size() == mesh.vertices.size(), "surface_color: the mesh has ", mesh.colors.size(),
+                  " colours for ", mesh.vertices.size(), " vertices");
   const auto& tri = mesh.triangles[t];
   const Vec3 a = mesh.vertices[tri[0]], ab = mesh.vertices[tri[1]] - a, ac = mesh.vertices[tri[2]] - a;
   const Vec3 ap = p - a;
