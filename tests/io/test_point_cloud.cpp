@@ -21,7 +21,7 @@ using nbs_test::Contains;
 using nbs::Vec3;
 
 namespace {
-const std::string kHead = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n";
+const std::string kPointsHead = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n";
 }  // namespace
 
 TEST_CASE("read_ply_points reads write_ply_points' output back exactly", "[io][ply][points]") {
@@ -67,21 +67,21 @@ TEST_CASE("read_ply_points rejects malformed clouds naming file, record and valu
     const char* message;
   };
   const std::vector<Bad> cases = {
-      {"partial_normals", kHead + "property float nx\nproperty float ny\nend_header\n0 0 0 1 0\n1 1 1 0 1\n",
+      {"partial_normals", kPointsHead + "property float nx\nproperty float ny\nend_header\n0 0 0 1 0\n1 1 1 0 1\n",
        "only some of the normal properties"},
-      {"partial_colours", kHead + "property uchar red\nend_header\n0 0 0 1\n1 1 1 2\n", "only some of the colour"},
-      {"nan_normal", kHead + "property float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 1 0 0\n1 1 1 nan 0 0\n",
+      {"partial_colours", kPointsHead + "property uchar red\nend_header\n0 0 0 1\n1 1 1 2\n", "only some of the colour"},
+      {"nan_normal", kPointsHead + "property float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 1 0 0\n1 1 1 nan 0 0\n",
        "record 1: non-finite normal"},
-      {"colour_256", kHead + "property int red\nproperty int green\nproperty int blue\nend_header\n0 0 0 1 2 3\n1 1 1 1 256 3\n",
+      {"colour_256", kPointsHead + "property int red\nproperty int green\nproperty int blue\nend_header\n0 0 0 1 2 3\n1 1 1 1 256 3\n",
        "colour green = 256"},
-      {"colour_fraction", kHead + "property float red\nproperty float green\nproperty float blue\nend_header\n0 0 0 0.5 0 0\n1 1 1 0 0 0\n",
+      {"colour_fraction", kPointsHead + "property float red\nproperty float green\nproperty float blue\nend_header\n0 0 0 0.5 0 0\n1 1 1 0 0 0\n",
        "colour red = 0.5"},
-      {"nan_point", kHead + "end_header\n0 nan 0\n1 1 1\n", "non-finite coordinate"},
+      {"nan_point", kPointsHead + "end_header\n0 nan 0\n1 1 1\n", "non-finite coordinate"},
       {"no_points", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
        "no points"},
-      {"list_normal", kHead + "property list uchar float nx\nproperty float ny\nproperty float nz\nend_header\n",
+      {"list_normal", kPointsHead + "property list uchar float nx\nproperty float ny\nproperty float nz\nend_header\n",
        "'nx' must be a scalar"},
-      {"truncated", kHead + "end_header\n0 0 0\n", "truncated"},
+      {"truncated", kPointsHead + "end_header\n0 0 0\n", "truncated"},
   };
   for (const Bad& b : cases) {
     INFO(b.name);

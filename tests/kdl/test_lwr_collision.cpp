@@ -14,25 +14,19 @@
 #include "nbs/kdl/urdf_robot.hpp"
 #include "nbs/robot/link_collision.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
+#include "lwr_fixture.hpp"
 
 using namespace nbs;
 using nbs::kdl::UrdfRobot;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using std::numbers::pi;
 // The unknown area around a bunny-sized object on the pedestal: 0.16 × 0.16 × 0.16 m, every voxel unknown.
 const Aabb kBunnyBox{Vec3(-0.08, -0.08, 0.0), Vec3(0.08, 0.08, 0.16)};
 
-UrdfRobot lwr() {
-  return UrdfRobot::load(std::filesystem::path(NBS_DATA_DIR) / "robots" / "lwr4.urdf", "world", "lwr_flange", "sensor");
-}
-JointVector joints(std::initializer_list<double> v) {
-  JointVector q(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) q[i++] = x;
-  return q;
-}
+using nbs_test::lwr;
+using nbs_test::joints;
 LinkCollisionSetting lwr_setting() {
   LinkCollisionSetting s;
   s.table_exempt_links = {"lwr_base_link"};  // stands on the table at z = 0 by design
@@ -42,7 +36,7 @@ LinkCollisionSetting lwr_setting() {
 // azimuth 135°, a 0.16 m stripe scan along the sensor's y centred there.
 LinearScanPath standard_scan() {
   const Vec3 centre(0, 0, 0.08);
-  const double e = 50 * kPi / 180, az = 135 * kPi / 180;
+  const double e = 50 * pi / 180, az = 135 * pi / 180;
   const Vec3 eye = centre + 0.3 * Vec3(std::cos(e) * std::cos(az), std::cos(e) * std::sin(az), std::sin(e));
   const Vec3 z = (centre - eye).normalized();
   const Vec3 x = Vec3::UnitZ().cross(z).normalized();

@@ -18,20 +18,21 @@
 #include "conformance/robot_conformance.hpp"
 #include "nbs/kdl/urdf_robot.hpp"
 #include "nbs/robot/reachability.hpp"
+#include "lwr_fixture.hpp"
 
 using namespace nbs;
 using nbs::kdl::UrdfRobot;
 
 namespace {
 
-const std::filesystem::path kUrdf = std::filesystem::path(NBS_DATA_DIR) / "robots" / "lwr4.urdf";
-constexpr double kPi = std::numbers::pi;
+const std::filesystem::path& kUrdf = nbs_test::kLwrUrdf;
+using std::numbers::pi;
 // The URDF's numbers: base at (−0.65, 0, 0) in the world (mount joint); A2 0.31 m above the base, A4 0.4 m above
 // A2, A6 0.39 m above A4, the flange 0.078 m above A6; the sensor at (0.05, 0, 0.10) in the flange frame, rotated
 // 90° about z.
 const Vec3 kBase(-0.65, 0.0, 0.0);
 
-UrdfRobot lwr() { return UrdfRobot::load(kUrdf, "world", "lwr_flange", "sensor"); }
+using nbs_test::lwr;
 
 Mat3 ry(double a) { return Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix(); }
 Mat3 rz(double a) { return Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(); }
@@ -41,12 +42,7 @@ Pose make_pose(const Mat3& R, const Vec3& p) {
   T.translation() = p;
   return T;
 }
-JointVector joints(std::initializer_list<double> v) {
-  JointVector q(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) q[i++] = x;
-  return q;
-}
+using nbs_test::joints;
 
 // Writes `text` to a temporary URDF file and returns its path.
 std::filesystem::path temp_urdf(const std::string& name, const std::string& text) {
@@ -79,18 +75,18 @@ TEST_CASE("lwr4.urdf: the chain, limits and hand-eye transform as written", "[kd
   REQUIRE(r.joint_count() == 7);
   CHECK(r.joint_names() == std::vector<std::string>{"lwr_a1", "lwr_a2", "lwr_a3", "lwr_a4", "lwr_a5", "lwr_a6",
                                                      "lwr_a7"});
-  const double d170 = 170.0 * kPi / 180.0, d120 = 120.0 * kPi / 180.0;
+  const double d170 = 170.0 * pi / 180.0, d120 = 120.0 * pi / 180.0;
   const JointVector upper = joints({d170, d120, d170, d120, d170, d120, d170});
   CHECK((r.joint_limits().upper - upper).cwiseAbs().maxCoeff() < 1e-9);
   CHECK((r.joint_limits().lower + upper).cwiseAbs().maxCoeff() < 1e-9);
-  CHECK(poses_agree(r.hand_eye(), make_pose(rz(kPi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
+  CHECK(poses_agree(r.hand_eye(), make_pose(rz(pi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
   CHECK(poses_agree(r.base_pose(), Pose::Identity(), 0, 0));
 }
 
 TEST_CASE("lwr4.urdf: forward kinematics against hand-computed poses", "[kdl]") {
   const UrdfRobot r = lwr();
   const Vec3 a2 = kBase + Vec3(0, 0, 0.31), a4 = a2 + Vec3(0, 0, 0.4);
-  const Pose T_FS = make_pose(rz(kPi / 2), Vec3(0.05, 0, 0.10));
+  const Pose T_FS = make_pose(rz(pi / 2), Vec3(0.05, 0, 0.10));
   struct Case {
     const char* what;
     JointVector q;
@@ -100,18 +96,18 @@ TEST_CASE("lwr4.urdf: forward kinematics against hand-computed poses", "[kdl]") 
       // Straight up: the flange 0.31 + 0.4 + 0.39 + 0.078 = 1.178 m above the base.
       {"zero", JointVector::Zero(7), make_pose(Mat3::Identity(), kBase + Vec3(0, 0, 1.178))},
       // A2 (axis −y) at +90°: the arm above A2 turns by R_y(−90°) and points along −x.
-      {"A2 = 90°", joints({0, kPi / 2, 0, 0, 0, 0, 0}), make_pose(ry(-kPi / 2), a2 + Vec3(-0.868, 0, 0))},
+      {"A2 = 90°", joints({0, pi / 2, 0, 0, 0, 0, 0}), make_pose(ry(-pi / 2), a2 + Vec3(-0.868, 0, 0))},
       // A4 (axis +y) at +90°: the forearm points along +x from A4.
-      {"A4 = 90°", joints({0, 0, 0, kPi / 2, 0, 0, 0}), make_pose(ry(kPi / 2), a4 + Vec3(0.468, 0, 0))},
+      {"A4 = 90°", joints({0, 0, 0, pi / 2, 0, 0, 0}), make_pose(ry(pi / 2), a4 + Vec3(0.468, 0, 0))},
       // A1 = 90° turns that about the base's z axis: the forearm points along +y.
-      {"A1 = A4 = 90°", joints({kPi / 2, 0, 0, kPi / 2, 0, 0, 0}),
-       make_pose(rz(kPi / 2) * ry(kPi / 2), a4 + Vec3(0, 0.468, 0))},
+      {"A1 = A4 = 90°", joints({pi / 2, 0, 0, pi / 2, 0, 0, 0}),
+       make_pose(rz(pi / 2) * ry(pi / 2), a4 + Vec3(0, 0.468, 0))},
       // A7 = 90°: only the flange turns about its z axis.
-      {"A7 = 90°", joints({0, 0, 0, 0, 0, 0, kPi / 2}), make_pose(rz(kPi / 2), kBase + Vec3(0, 0, 1.178))},
+      {"A7 = 90°", joints({0, 0, 0, 0, 0, 0, pi / 2}), make_pose(rz(pi / 2), kBase + Vec3(0, 0, 1.178))},
       // A5 = 90° turns the wrist about z; A6 (axis −y) at −90° is then R_y(+90°) in the turned frame:
       // R = R_z(90°) R_y(90°), whose z axis is +y, so the flange is 0.078 m from A6 (1.10 m up) along +y.
-      {"A5 = 90°, A6 = −90°", joints({0, 0, 0, 0, kPi / 2, -kPi / 2, 0}),
-       make_pose(rz(kPi / 2) * ry(kPi / 2), kBase + Vec3(0, 0.078, 1.10))},
+      {"A5 = 90°, A6 = −90°", joints({0, 0, 0, 0, pi / 2, -pi / 2, 0}),
+       make_pose(rz(pi / 2) * ry(pi / 2), kBase + Vec3(0, 0.078, 1.10))},
   };
   for (const Case& c : cases) {
     INFO(c.what << "\nfk:\n" << r.fk(c.q).matrix() << "\nexpected T_WF:\n" << c.T_WF.matrix());
@@ -120,7 +116,7 @@ TEST_CASE("lwr4.urdf: forward kinematics against hand-computed poses", "[kdl]") 
   }
   // One by hand in numbers: A4 = 90° puts the sensor at A4 + (0.468, 0, 0) + R_y(90°)(0.05, 0, 0.10)
   // = (−0.65 + 0.468 + 0.10, 0, 0.71 − 0.05) = (−0.082, 0, 0.66).
-  CHECK((r.fk(joints({0, 0, 0, kPi / 2, 0, 0, 0})).translation() - Vec3(-0.082, 0, 0.66)).norm() < 1e-12);
+  CHECK((r.fk(joints({0, 0, 0, pi / 2, 0, 0, 0})).translation() - Vec3(-0.082, 0, 0.66)).norm() < 1e-12);
 }
 
 TEST_CASE("lwr4.urdf: collision shapes from the <collision> elements, placed by fk", "[kdl]") {
@@ -151,7 +147,7 @@ TEST_CASE("UrdfRobot: IK round trips over random reachable poses, deterministic"
   int solved = 0, tried = 0;
   double worst_p = 0, worst_a = 0, seconds = 0;
   for (int i = 0; i < 60; ++i) {
-    const JointVector q = conformance::random_joints(lim, rng, kPi);
+    const JointVector q = conformance::random_joints(lim, rng, pi);
     const Pose T = r.fk(q);
     const auto t0 = std::chrono::steady_clock::now();
     const auto s = r.ik(T, home);  // from a fixed home configuration: the restarts must find the far ones
@@ -187,7 +183,7 @@ TEST_CASE("UrdfRobot: const members run concurrently with the sequential answers
   std::mt19937_64 rng(5);
   const JointVector home = joints({0, 0.6, 0, -1.2, 0, 0.9, 0});
   std::vector<Pose> targets;
-  for (int i = 0; i < 20; ++i) targets.push_back(r.fk(conformance::random_joints(r.joint_limits(), rng, kPi)));
+  for (int i = 0; i < 20; ++i) targets.push_back(r.fk(conformance::random_joints(r.joint_limits(), rng, pi)));
   std::vector<std::optional<JointVector>> seq, a(targets.size()), b(targets.size());
   for (const Pose& T : targets) seq.push_back(r.ik(T, home));
   std::thread t1([&] { for (std::size_t i = 0; i < targets.size(); ++i) a[i] = r.ik(targets[i], home); });
@@ -201,7 +197,7 @@ TEST_CASE("UrdfRobot: const members run concurrently with the sequential answers
 TEST_CASE("UrdfRobot passes the Robot conformance suite", "[kdl]") {
   conformance::RobotCase c;
   c.samples = 30;
-  c.unlimited_range = kPi;
+  c.unlimited_range = pi;
   const auto rep = conformance::check_robot_conformance(lwr(), c);
   CHECK(rep.ik_solved == rep.ik_tried);
 }
@@ -225,7 +221,7 @@ TEST_CASE("check_scan_path on the LWR: a vertical scan beside the object is flow
   // Looking at the object's centre (0, 0, 0.08) from 0.3 m, 50° above the horizon, from azimuth 135° (the robot's
   // side, half turned away), a 0.16 m stripe scan along the sensor's y centred there.
   const Vec3 centre(0, 0, 0.08);
-  const double e = 50 * kPi / 180, az = 135 * kPi / 180;
+  const double e = 50 * pi / 180, az = 135 * pi / 180;
   Pose start = look_at(centre + 0.3 * Vec3(std::cos(e) * std::cos(az), std::cos(e) * std::sin(az), std::sin(e)), centre,
                        0.0);
   start.translation() -= 0.08 * start.linear().col(1);
@@ -324,7 +320,7 @@ TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming th
   CHECK_THROWS_AS(r.set_ik_setting(s), InvalidArgument);
   CHECK(r.ik_setting().restarts == kdl::IkSetting{}.restarts);  // unchanged
   CHECK_THROWS_AS(r.set_hand_eye(bad), InvalidArgument);
-  CHECK(poses_agree(r.hand_eye(), make_pose(rz(kPi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
+  CHECK(poses_agree(r.hand_eye(), make_pose(rz(pi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
   const auto floating = temp_urdf("floating", replaced(urdf, R"(<joint name="lwr_a3" type="revolute">)",
                                                        R"(<joint name="lwr_a3" type="floating">)"));
   CHECK_THROWS_WITH(UrdfRobot::load(floating, "world", "lwr_flange", "sensor"),

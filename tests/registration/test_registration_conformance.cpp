@@ -46,13 +46,13 @@ static_assert(nbs::RegistrationPolicy<nbs::Icp, PointModel>);
 static_assert(nbs::RegistrationPolicy<nbs::NoRegistration, PointModel>);
 static_assert(nbs::RegistrationPolicy<nbs::SelectableRegistration, PointModel>);
 
-struct Case {
+struct ConformanceCase {
   const char* name;
   Scan scan;
   PointModel model;
 };
 
-std::vector<Case> cases() {
+std::vector<ConformanceCase> cases() {
   const PointModel bumps = model_of(bumpy_plane()), plane = model_of(flat_plane());
   const Scan scan = scan_of(bumpy_plane(), Vec3(0.02, -0.05, 0.25), Vec3::Zero(), 2e-5, 3);
   const Pose error = pose_error(Vec3(0.001, 0.0005, -0.0008), 0.002, Vec3(1.0, 0.2, 0.4), centroid(scan));
@@ -66,7 +66,7 @@ std::vector<Case> cases() {
 template <class Policy>
 std::vector<RegistrationResult> run_all(Policy policy) {
   std::vector<RegistrationResult> out;
-  for (const Case& c : cases()) {
+  for (const ConformanceCase& c : cases()) {
     INFO(c.name);
     out.push_back(nbs::conformance::check_registration_conformance(policy, c.scan, c.model));
   }

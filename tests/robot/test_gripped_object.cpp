@@ -24,7 +24,7 @@ using nbs::Mat3;
 using nbs::Pose;
 using nbs::Vec3;
 
-Pose make_pose(const Mat3& R, const Vec3& t) {
+Pose rigid_pose(const Mat3& R, const Vec3& t) {
   Pose p = Pose::Identity();
   p.linear() = R;
   p.translation() = t;
@@ -39,7 +39,7 @@ void check_pose(const Pose& a, const Pose& b) {
 // Hand-computed: the fixed sensor at (1, 2, 0.5) in B, turned 90° about z (its viewing axis stays +z of B).
 const Mat3 kRz90 = (Mat3() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished();
 const Mat3 kRx180 = (Mat3() << 1, 0, 0, 0, -1, 0, 0, 0, -1).finished();
-const Pose kTBS = make_pose(kRz90, Vec3(1, 2, 0.5));
+const Pose kTBS = rigid_pose(kRz90, Vec3(1, 2, 0.5));
 
 nbs::PlacedShape box_finger(const char* name, const Pose& T_OG, const Vec3& size) {
   nbs::PlacedShape f;
@@ -54,9 +54,9 @@ nbs::GrippedSetup two_fingers() {
   nbs::GrippedSetup s;
   s.T_BS = kTBS;
   s.tool_box = {Vec3(-0.05, -0.05, 0.0), Vec3(0.05, 0.05, 0.2)};
-  s.fingers.push_back(box_finger("left", make_pose(Mat3::Identity(), Vec3(-0.045, 0, 0.03)), Vec3(0.01, 0.02, 0.06)));
+  s.fingers.push_back(box_finger("left", rigid_pose(Mat3::Identity(), Vec3(-0.045, 0, 0.03)), Vec3(0.01, 0.02, 0.06)));
   s.fingers.push_back(box_finger("right",
-                                 make_pose(Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix(),
+                                 rigid_pose(Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix(),
                                            Vec3(0.045, 0, 0.03)),
                                  Vec3(0.01, 0.02, 0.06)));
   s.finger_margin_m = 0.002;
@@ -68,13 +68,13 @@ nbs::GrippedSetup two_fingers() {
 TEST_CASE("gripped object: Eq. 5.1 frame mapping against hand-computed transforms", "[gripped]") {
   // Sensor 0.3 m below the object origin in O, looking up (+z): the object is 0.3 m in front of the fixed sensor,
   // T_BO = [Rz90 | Rz90 (0, 0, 0.3) + (1, 2, 0.5)] = [Rz90 | (1, 2, 0.8)].
-  check_pose(nbs::object_pose_for(kTBS, make_pose(Mat3::Identity(), Vec3(0, 0, -0.3))),
-             make_pose(kRz90, Vec3(1, 2, 0.8)));
+  check_pose(nbs::object_pose_for(kTBS, rigid_pose(Mat3::Identity(), Vec3(0, 0, -0.3))),
+             rigid_pose(kRz90, Vec3(1, 2, 0.8)));
   // Sensor 0.4 m above the object in O looking down (Rx180): T_OS⁻¹ = [Rx180 | (0, 0, 0.4)], so
   // T_BO = [Rz90 Rx180 | (1, 2, 0.9)]: the object hangs upside down 0.4 m above the sensor.
-  const Pose T_OS = make_pose(kRx180, Vec3(0, 0, 0.4));
+  const Pose T_OS = rigid_pose(kRx180, Vec3(0, 0, 0.4));
   const Mat3 R_BO = (Mat3() << 0, 1, 0, 1, 0, 0, 0, 0, -1).finished();
-  const Pose T_BO = make_pose(R_BO, Vec3(1, 2, 0.9));
+  const Pose T_BO = rigid_pose(R_BO, Vec3(1, 2, 0.9));
   check_pose(nbs::object_pose_for(kTBS, T_OS), T_BO);
   check_pose(nbs::sensor_pose_in_object(kTBS, T_BO), T_OS);
 
@@ -83,8 +83,8 @@ TEST_CASE("gripped object: Eq. 5.1 frame mapping against hand-computed transform
   const nbs::LinearScanPath path(nbs::Viewpoint(T_OS), Vec3(0, -0.1, 0.4));
   const nbs::ObjectPath op = nbs::object_path_for(kTBS, path);
   check_pose(op.start, T_BO);
-  check_pose(op.end, make_pose(R_BO, Vec3(1.1, 2, 0.9)));
-  check_pose(nbs::object_pose_for(kTBS, path.pose_at(0.5)), make_pose(R_BO, Vec3(1.05, 2, 0.9)));
+  check_pose(op.end, rigid_pose(R_BO, Vec3(1.1, 2, 0.9)));
+  check_pose(nbs::object_pose_for(kTBS, path.pose_at(0.5)), rigid_pose(R_BO, Vec3(1.05, 2, 0.9)));
 
   // The data half: a point p_O = (0.01, 0.02, 0.03) on the object is seen in B at R_BO p_O + t = (1.02, 2.01, 0.87);
   // mapped back with the object pose of its profile it is p_O again, and the profile pose becomes T_OS.
@@ -113,8 +113,8 @@ TEST_CASE("gripped object: the finger filter removes exactly the points within t
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-0.06, 0.06);
   nbs::Scan scan;
-  scan.profile_poses = {make_pose(Mat3::Identity(), Vec3(0, 0, -0.3)),
-                        make_pose(Mat3::Identity(), Vec3(0, 0.01, -0.3))};
+  scan.profile_poses = {rigid_pose(Mat3::Identity(), Vec3(0, 0, -0.3)),
+                        rigid_pose(Mat3::Identity(), Vec3(0, 0.01, -0.3))};
   std::vector<Vec3> expected;
   std::vector<std::uint32_t> expected_profile;
   std::vector<nbs::Rgb> expected_colors;  // colours stay with their points

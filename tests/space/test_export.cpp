@@ -11,11 +11,12 @@
 #include "nbs/space/export_ply.hpp"
 #include "nbs/space/surface_features.hpp"
 #include "support/single_beam.hpp"
+#include "support/test_boxes.hpp"
 
 namespace {
 using nbs::Vec3;
 using nbs::VoxelKey;
-const nbs::Aabb kBox{Vec3::Constant(-0.0999), Vec3::Constant(0.0999)};
+using nbs_test::kCubeBox;
 
 struct PlyVoxel {
   float x, y, z;
@@ -44,7 +45,7 @@ std::vector<PlyVoxel> read_ply(const std::filesystem::path& path) {
 }  // namespace
 
 TEST_CASE("PLY export: black = free, grey = unknown, white = occupied", "[space][export]") {
-  nbs::ProbabilisticVoxelSpace<> space(0.005, kBox);
+  nbs::ProbabilisticVoxelSpace<> space(0.005, kCubeBox);
   (void)space.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), Vec3(0.0525, 0.0025, 0.0025)}}));
   const auto path = std::filesystem::temp_directory_path() / "nbs_test_space_export.ply";
   const auto n = nbs::write_voxels_ply(space, path);
@@ -63,7 +64,7 @@ TEST_CASE("PLY export: black = free, grey = unknown, white = occupied", "[space]
   REQUIRE(dark >= 25);
   REQUIRE(bright >= 1);
 
-  nbs::ProbabilisticVoxelSpace<> small(0.05, kBox);
+  nbs::ProbabilisticVoxelSpace<> small(0.05, kCubeBox);
   const auto m = nbs::write_voxels_ply(small, path, {.include_unknown = true});
   REQUIRE(m == small.bounds_keys().volume());
   for (const auto& e : read_ply(path)) REQUIRE(e.r == 128);  // unknown: p = 0.5

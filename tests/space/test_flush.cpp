@@ -16,6 +16,7 @@
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "support/random_rays.hpp"
 #include "support/synthetic_scan.hpp"
+#include "support/test_boxes.hpp"
 
 namespace {
 using nbs::Vec3;
@@ -23,7 +24,7 @@ using nbs::VoxelKey;
 using Space = nbs::ProbabilisticVoxelSpace<>;
 namespace fs = std::filesystem;
 
-const nbs::Aabb kBox{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};
+using nbs_test::kFlushBox;
 const nbs::test::SphereLspSetup kSetup{.profiles = 20, .rays_per_profile = 60, .noise_sigma_m = 0.0005};
 
 nbs::Scan scan(int i) { return nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 40 + i); }
@@ -61,7 +62,7 @@ CastLog cast_all(const Space& s, const std::vector<nbs::Ray>& rays, unsigned thr
 
 TEST_CASE("flush to disk and reload is exact, also after further updates", "[space][flush]") {
   TempDir dir;
-  Space flushed(0.004, kBox), reference(0.004, kBox);
+  Space flushed(0.004, kFlushBox), reference(0.004, kFlushBox);
   for (int i = 0; i < 3; ++i) {
     (void)flushed.integrate(scan(i));
     (void)reference.integrate(scan(i));
@@ -126,7 +127,7 @@ TEST_CASE("flush to disk and reload is exact, also after further updates", "[spa
 TEST_CASE("automatic flushing of idle blocks gives the same space as no flushing", "[space][flush]") {
   TempDir dir;
   using LogOddsSpace = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
-  LogOddsSpace flushed(0.004, kBox), reference(0.004, kBox);
+  LogOddsSpace flushed(0.004, kFlushBox), reference(0.004, kFlushBox);
   flushed.mutable_backend().set_flush_policy({.directory = dir.path, .idle_scans = 1});
   std::size_t max_flushed = 0;
   for (int i = 0; i < 6; ++i) {
@@ -149,7 +150,7 @@ TEST_CASE("automatic flushing of idle blocks gives the same space as no flushing
 
 TEST_CASE("a memory budget flushes the least recently written blocks", "[space][flush]") {
   TempDir dir;
-  Space flushed(0.004, kBox), reference(0.004, kBox);
+  Space flushed(0.004, kFlushBox), reference(0.004, kFlushBox);
   for (int i = 0; i < 2; ++i) {
     (void)flushed.integrate(scan(i));
     (void)reference.integrate(scan(i));
@@ -170,7 +171,7 @@ TEST_CASE("a failed flush leaves the space unchanged and reports the error", "[s
   TempDir dir;
   const fs::path file = dir.path / "not_a_directory";
   std::ofstream(file) << "x";
-  Space space(0.004, kBox), reference(0.004, kBox);
+  Space space(0.004, kFlushBox), reference(0.004, kFlushBox);
   for (int i = 0; i < 2; ++i) {
     (void)space.integrate(scan(i));
     (void)reference.integrate(scan(i));

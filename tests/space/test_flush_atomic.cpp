@@ -19,6 +19,7 @@
 
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "support/synthetic_scan.hpp"
+#include "support/test_boxes.hpp"
 
 namespace {
 using nbs::Vec3;
@@ -26,7 +27,7 @@ using nbs::VoxelKey;
 using Space = nbs::ProbabilisticVoxelSpace<>;
 namespace fs = std::filesystem;
 
-const nbs::Aabb kBox{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};
+using nbs_test::kFlushBox;
 const nbs::test::SphereLspSetup kSetup{.profiles = 20, .rays_per_profile = 60, .noise_sigma_m = 0.0005};
 nbs::Scan scan(int i) { return nbs::test::sphere_lsp_scan(kSetup, nbs::test::ring_position(kSetup, i, 6, 0.3), 40 + i); }
 
@@ -69,7 +70,7 @@ TEST_CASE("integrate with a damaged flushed block throws and changes nothing", "
   enum class Damage { truncate, corrupt, remove };
   const Damage damage = GENERATE(Damage::truncate, Damage::corrupt, Damage::remove);
   TempDir dir;
-  Space s(0.004, kBox);
+  Space s(0.004, kFlushBox);
   for (int i = 0; i < 3; ++i) (void)s.integrate(scan(i));
   auto& backend = s.mutable_backend();
   backend.set_flush_policy({.directory = dir.path});
@@ -112,7 +113,7 @@ TEST_CASE("integrate with a damaged flushed block: voxel digest unchanged, later
           "[space][flush][atomic]") {
   // Every other block file is truncated, then restored after the failed integrate.
   TempDir dir;
-  Space s(0.004, kBox), reference(0.004, kBox);
+  Space s(0.004, kFlushBox), reference(0.004, kFlushBox);
   for (int i = 0; i < 3; ++i) {
     (void)s.integrate(scan(i));
     (void)reference.integrate(scan(i));
@@ -154,7 +155,7 @@ TEST_CASE("a failed flush after a scan is reported, the scan succeeds and the bl
   // The flush directory's parent is a regular file: no folder can be created, also as root.
   const fs::path file = dir.path / "not_a_dir";
   std::ofstream(file) << "x";
-  Space s(0.004, kBox), reference(0.004, kBox);
+  Space s(0.004, kFlushBox), reference(0.004, kFlushBox);
   s.mutable_backend().set_flush_policy({.directory = file / "flush", .idle_scans = 1});
   for (int i = 0; i < 3; ++i) {
     const auto a = s.integrate(scan(i));
@@ -190,7 +191,7 @@ TEST_CASE("a write that fails mid-file (file-size limit) leaves no block file be
     }
   };
   TempDir dir;
-  Space s(0.004, kBox), reference(0.004, kBox);
+  Space s(0.004, kFlushBox), reference(0.004, kFlushBox);
   s.mutable_backend().set_flush_policy({.directory = dir.path, .idle_scans = 1});
   for (int i = 0; i < 2; ++i) {
     (void)s.integrate(scan(i));

@@ -10,12 +10,13 @@
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "support/single_beam.hpp"
 #include "support/synthetic_scan.hpp"
+#include "support/test_boxes.hpp"
 
 namespace {
 using nbs::Vec3;
 using nbs::VoxelKey;
 using LogOddsSpace = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
-const nbs::Aabb kBox{Vec3::Constant(-0.0999), Vec3::Constant(0.0999)};
+using nbs_test::kCubeBox;
 // Forces the generic (traits) path of ProbabilisticVoxelSpace: any backend that is not HashedBlockBackend.
 template <class StateT = nbs::ThesisState>
 struct Wrapped {
@@ -36,7 +37,7 @@ struct Wrapped {
 }  // namespace
 
 TEST_CASE("log-odds model: one beam, values as OctoMap computes them", "[space][pvs]") {
-  LogOddsSpace space(0.005, kBox);
+  LogOddsSpace space(0.005, kCubeBox);
   const auto st = space.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), Vec3(0.0525, 0.0025, 0.0025)}}));
   const float miss = static_cast<float>(std::log(0.4 / 0.6)), hit = static_cast<float>(std::log(0.7 / 0.3));
   for (int x = -20; x <= 9; ++x) REQUIRE(space.state(VoxelKey{x, 0, 0}).log_odds == miss);
@@ -54,7 +55,7 @@ TEST_CASE("log-odds model: one beam, values as OctoMap computes them", "[space][
 }
 
 TEST_CASE("end points take precedence over pass-through within one scan", "[space][pvs]") {
-  LogOddsSpace space(0.005, kBox);
+  LogOddsSpace space(0.005, kCubeBox);
   // Beam 1 passes through voxel (10,0,0); beam 2 ends there. Order must not matter.
   (void)space.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), Vec3(0.0825, 0.0025, 0.0025)},
                                                {Vec3(0.0525, -0.3, 0.0025), Vec3(0.0525, 0.0025, 0.0025)}}));
@@ -69,7 +70,7 @@ TEST_CASE("bad input: errors before any change, rejections counted", "[space][pv
   REQUIRE_THROWS_AS(nbs::ProbabilisticVoxelSpace<>(0.01, nbs::Aabb{Vec3(nan, 0, 0), Vec3(1, 1, 1)}),
                     nbs::InvalidArgument);
 
-  nbs::ProbabilisticVoxelSpace<> space(0.005, kBox);
+  nbs::ProbabilisticVoxelSpace<> space(0.005, kCubeBox);
   auto bad = nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), Vec3(0.0525, 0.0025, 0.0025)},
                                     {Vec3(-0.3, 0.0025, 0.0025), Vec3(inf, 0.0, 0.0)}});
   REQUIRE_THROWS_AS(space.integrate(bad), nbs::InvalidArgument);
@@ -97,7 +98,7 @@ TEST_CASE("bad input: errors before any change, rejections counted", "[space][pv
 
   nbs::ThesisModel::Setting s;
   s.sigma_m = [](double d) { return d > 0.2 ? std::numeric_limits<double>::quiet_NaN() : 0.001; };
-  nbs::ProbabilisticVoxelSpace<> noisy(0.005, kBox, nbs::ThesisModel(s));
+  nbs::ProbabilisticVoxelSpace<> noisy(0.005, kCubeBox, nbs::ThesisModel(s));
   const auto st2 = noisy.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0, 0.0), Vec3(0.05, 0.0, 0.0)},
                                                           {Vec3(-0.1, 0.0, 0.0), Vec3(0.05, 0.0, 0.0)}}));
   REQUIRE(st2.rejected_model == 1);
@@ -105,7 +106,7 @@ TEST_CASE("bad input: errors before any change, rejections counted", "[space][pv
 }
 
 TEST_CASE("scans far outside the unknown area leave the space unchanged", "[space][pvs]") {
-  nbs::ProbabilisticVoxelSpace<> space(0.005, kBox);
+  nbs::ProbabilisticVoxelSpace<> space(0.005, kCubeBox);
   const auto st = space.integrate(nbs::test::beams_scan({{Vec3(1.0, 1.0, 1.0), Vec3(1.5, 1.0, 1.0)},
                                                          {Vec3(1e6, 0.0, 0.0), Vec3(1e6, 1.0, 0.0)}}));
   REQUIRE(st.rejected_outside_bounds == 2);

@@ -7,6 +7,7 @@
 
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "support/single_beam.hpp"
+#include "support/test_boxes.hpp"
 
 namespace {
 
@@ -30,13 +31,13 @@ nbs::ThesisModel model_with_sigma(double sigma) {
   return nbs::ThesisModel(s);
 }
 
-const nbs::Aabb kBox{Vec3::Constant(-0.0999), Vec3::Constant(0.0999)};
+using nbs_test::kCubeBox;
 const Vec3 kEnd(0.0525, 0.0025, 0.0025);  // centre of voxel (10, 0, 0) at 5 mm
 
 }  // namespace
 
 TEST_CASE("thesis model: hand-computed single-beam update", "[space][thesis]") {
-  Space space(0.005, kBox, model_with_sigma(0.002));  // band ±6 mm
+  Space space(0.005, kCubeBox, model_with_sigma(0.002));  // band ±6 mm
   const auto st = space.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), kEnd}}));
   REQUIRE(st.integrated == 1);
   const int e_free = fixed(logit(0.4));
@@ -66,7 +67,7 @@ TEST_CASE("thesis model: hand-computed single-beam update", "[space][thesis]") {
 }
 
 TEST_CASE("thesis model: specular state (Eq. 3.6) and occupancy (Eq. 3.8)", "[space][thesis]") {
-  Space space(0.005, kBox, model_with_sigma(0.002));
+  Space space(0.005, kCubeBox, model_with_sigma(0.002));
   (void)space.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), kEnd}}));
   // A beam along +y passes through the hit voxel: it is measured free now.
   (void)space.integrate(nbs::test::beams_scan({{Vec3(0.0525, -0.3, 0.0025), Vec3(0.0525, 0.0825, 0.0025)}}));
@@ -82,7 +83,7 @@ TEST_CASE("thesis model: specular state (Eq. 3.6) and occupancy (Eq. 3.8)", "[sp
 }
 
 TEST_CASE("thesis model: repeated independent observations converge", "[space][thesis]") {
-  Space space(0.005, kBox, model_with_sigma(0.001));
+  Space space(0.005, kCubeBox, model_with_sigma(0.001));
   const Vec3 target(0.0025, 0.0025, 0.0025);  // centre of voxel (0, 0, 0)
   double p_hit = 0.5, p_free = 0.5;
   for (int i = 0; i < 24; ++i) {
@@ -106,7 +107,7 @@ TEST_CASE("thesis model: repeated independent observations converge", "[space][t
 }
 
 TEST_CASE("thesis model: beam independence rejects repeated and similar beams", "[space][thesis]") {
-  Space space(0.005, kBox, model_with_sigma(0.002));
+  Space space(0.005, kCubeBox, model_with_sigma(0.002));
   const auto scan = nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), kEnd}});
   const auto first = space.integrate(scan);
   const auto before = space.state(VoxelKey{0, 0, 0});
@@ -115,7 +116,7 @@ TEST_CASE("thesis model: beam independence rejects repeated and similar beams", 
   REQUIRE(again.voxels_similar_beam == first.voxel_updates);
   REQUIRE(space.state(VoxelKey{0, 0, 0}) == before);
   // Within one scan each voxel is updated once: a duplicate beam only counts skips.
-  Space twice(0.005, kBox, model_with_sigma(0.002));
+  Space twice(0.005, kCubeBox, model_with_sigma(0.002));
   const auto dup = twice.integrate(nbs::test::beams_scan({{Vec3(-0.3, 0.0025, 0.0025), kEnd},
                                                           {Vec3(-0.3, 0.0026, 0.0025), kEnd}}));
   REQUIRE(dup.voxel_updates == first.voxel_updates);

@@ -20,6 +20,7 @@
 #include "nbs/io/session_writer.hpp"
 #include "nbs_catch.hpp"
 #include "planner/support/analytic_scanner.hpp"
+#include "nbs_read_file.hpp"
 
 namespace fs = std::filesystem;
 using nbs::Vec3;
@@ -42,12 +43,7 @@ fs::path temp_root() {
   return dir.path;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using nbs_test::slurp;
 
 struct Run {
   int code = -1;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "nbs_catch.hpp"
+#include "nbs_read_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -24,12 +25,7 @@ struct Result {
   std::string out, err;
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using nbs_test::slurp;
 
 /// Runs `exe args` with stdout and stderr captured in files next to the test's temporary directory.
 Result run(const std::string& exe, const std::string& args) {

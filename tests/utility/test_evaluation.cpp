@@ -14,12 +14,13 @@
 #include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 #include "test_terms_fixtures.hpp"
+#include "entropy_oracle.hpp"
 
 using namespace nbs;
 
 namespace {
 
-double H(double p) { return p <= 0.0 || p >= 1.0 ? 0.0 : -p * std::log2(p) - (1 - p) * std::log2(1 - p); }
+using nbs_test::H;
 
 LaserStripeProfiler small_lsp() {
   LaserStripeProfiler lsp;
@@ -367,10 +368,12 @@ TEST_CASE("the snapshot path feeds the same visits as space.cast_ray (log-odds a
   }
 }
 
+namespace {
 // A Recorder that declares that it ignores repeated visits (visits_first_only).
 struct FirstOnlyRecorder : Recorder {
   [[nodiscard]] bool first_visits_only() const { return true; }
 };
+}  // namespace
 
 TEST_CASE("a term that ignores repeated visits gets exactly the first visits of space.cast_ray, fields unchanged",
           "[utility][evaluation]") {

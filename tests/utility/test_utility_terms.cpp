@@ -13,13 +13,14 @@
 #include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
 #include "test_terms_fixtures.hpp"
+#include "entropy_oracle.hpp"
 
 using namespace nbs;
 using nbs_test::key;
 
 namespace {
 
-double H(double p) { return p <= 0.0 || p >= 1.0 ? 0.0 : -p * std::log2(p) - (1 - p) * std::log2(1 - p); }
+using nbs_test::H;
 
 VoxelVisit vv(double p, bool observed, bool occupied, std::uint32_t index, bool first = true) {
   VoxelVisit v;
