@@ -3,12 +3,14 @@
 #include "nbs_catch.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <tuple>
 #include <utility>
 #include <vector>
 
+#include "nbs/io/read_stl.hpp"
 #include "nbs/workspace/collision_model.hpp"
 #include "support/collision_scene.hpp"
 
@@ -122,6 +124,11 @@ TEST_CASE("Collision mesh: closed, outward, one quad per exposed face", "[space]
       const nbs::Aabb box = mesh.bounds();
       REQUIRE((box.min - nbs::Vec3(0, 0, 0)).norm() < 1e-12);
       REQUIRE((box.max - nbs::Vec3(0.04, 0.04, 0.04)).norm() < 1e-12);
+      REQUIRE_NOTHROW(mesh.validate());
+      const auto path = std::filesystem::temp_directory_path() / "nbs_test_collision_mesh.stl";
+      nbs::write_stl(path.string(), mesh);
+      REQUIRE(nbs::read_stl(path.string()).triangles.size() == mesh.triangles.size());
+      std::filesystem::remove(path);
     }
   }
 }
