@@ -82,6 +82,7 @@
 #include "nbs/mesh/streaming_mesh.hpp"
 #include "nbs/mesh/streaming_mesh_settings.hpp"
 #include "nbs/mesh/surface_features.hpp"
+#include "nbs/mesh/transformed_mesh.hpp"
 
 #include "nbs/recognition/hypothesis_quality.hpp"
 #include "nbs/recognition/hypothesis_validation.hpp"

@@ -13,6 +13,7 @@
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
+#include "nbs/mesh/transformed_mesh.hpp"
 #include "nbs/recognition/oriented_points.hpp"
 #include "nbs/recognition/ppf_match.hpp"
 #include "nbs/recognition/ppf_model.hpp"
@@ -60,23 +61,6 @@ struct ModelAlignment {
   std::size_t hypotheses = 0;    ///< PPF hypotheses found
   RegistrationResult icp;        ///< the chosen hypothesis's refinement (T_ab = icp.correction · T_PPF if applied)
 };
-
-/// The vertices of `mesh` that have a unit normal (length in [0.9, 1.1]; a streaming mesh leaves some without one),
-/// with their normals, as OrientedPoints (e.g. a model from to_indexed_mesh). Throws InvalidArgument if the mesh has
-/// no normals or no vertex keeps one.
-[[nodiscard]] inline OrientedPoints oriented_points(const IndexedMesh& mesh) {
-  detail::require(!mesh.normals.empty() && mesh.normals.size() == mesh.vertices.size(), "oriented_points: the mesh has ",
-                  mesh.normals.size(), " normals for ", mesh.vertices.size(), " vertices");
-  OrientedPoints p;
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    const double len = mesh.normals[v].norm();
-    if (!(len >= 0.9 && len <= 1.1) || !mesh.vertices[v].allFinite()) continue;
-    p.points.push_back(mesh.vertices[v]);
-    p.normals.push_back(mesh.normals[v] / len);
-  }
-  p.validate("oriented_points: mesh");
-  return p;
-}
 
 /// The fraction of `points` (moved by T) within r of a point of `tree`.
 [[nodiscard]] inline double inlier_fraction(const detail::PointKdTree& tree, const std::vector<Vec3>& points,
@@ -143,14 +127,13 @@ struct ModelAlignment {
         detail::require(i < m->vertices.size(), "merge_models: triangle ", t, " refers to vertex ", i, " of ",
                         m->vertices.size());
   }
+  const IndexedMesh moved = transformed_mesh(b, T_ab);
   IndexedMesh out = a;
   const auto base = static_cast<std::uint32_t>(a.vertices.size());
-  for (const Vec3& v : b.vertices) out.vertices.push_back(T_ab * v);
+  out.vertices.insert(out.vertices.end(), moved.vertices.begin(), moved.vertices.end());
   for (const auto& t : b.triangles) out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-  const bool normals = !a.normals.empty() && !b.normals.empty();
-  if (!normals) out.normals.clear();
-  else
-    for (const Vec3& n : b.normals) out.normals.push_back(T_ab.linear() * n);
+  if (a.normals.empty() || b.normals.empty()) out.normals.clear();
+  else out.normals.insert(out.normals.end(), moved.normals.begin(), moved.normals.end());
   if (a.colors.empty() || b.colors.empty()) out.colors.clear();
   else out.colors.insert(out.colors.end(), b.colors.begin(), b.colors.end());
   return out;

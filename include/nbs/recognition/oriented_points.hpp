@@ -10,6 +10,7 @@
 #include "nbs/core/detail/cell_key.hpp"
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
+#include "nbs/mesh/indexed_mesh.hpp"
 #include "nbs/sim/surface_samples.hpp"
 
 namespace nbs {
@@ -40,6 +41,23 @@ struct OrientedPoints {
 
 /// The oriented points of surface samples (e.g. of a database mesh, sim/surface_samples.hpp).
 [[nodiscard]] inline OrientedPoints oriented_points(const SurfaceSamples& s) { return {s.points, s.normals}; }
+
+/// The vertices of `mesh` that have a unit normal (length in [0.9, 1.1]; a streaming mesh leaves some without one),
+/// with their normals, as OrientedPoints (e.g. a model from to_indexed_mesh). Throws InvalidArgument if the mesh has
+/// no normals or no vertex keeps one.
+[[nodiscard]] inline OrientedPoints oriented_points(const IndexedMesh& mesh) {
+  detail::require(!mesh.normals.empty() && mesh.normals.size() == mesh.vertices.size(), "oriented_points: the mesh has ",
+                  mesh.normals.size(), " normals for ", mesh.vertices.size(), " vertices");
+  OrientedPoints p;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const double len = mesh.normals[v].norm();
+    if (!(len >= 0.9 && len <= 1.1) || !mesh.vertices[v].allFinite()) continue;
+    p.points.push_back(mesh.vertices[v]);
+    p.normals.push_back(mesh.normals[v] / len);
+  }
+  p.validate("oriented_points: mesh");
+  return p;
+}
 
 /// The first point (in input order) of every occupied cell of the grid of edge `step_m`, in input order: any two
 /// kept points lie in different cells. Deterministic. Precondition: `in` validated; throws InvalidArgument if

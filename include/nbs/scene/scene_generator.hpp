@@ -24,6 +24,7 @@
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
+#include "nbs/mesh/transformed_mesh.hpp"
 #include "nbs/scene/detail/footprint.hpp"
 
 namespace nbs::scene {
@@ -155,8 +156,7 @@ struct SimulatedScene {
       PlacedObject obj{spec.name, Pose::Identity(), spec.mesh, std::move(hull)};
       obj.T_world_object.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
       obj.T_world_object.translation() = Vec3(t.x(), t.y(), settings.table_height_m - min_z);
-      for (Vec3& v : obj.mesh.vertices) v = obj.T_world_object * v;
-      for (Vec3& n : obj.mesh.normals) n = obj.T_world_object.linear() * n;
+      obj.mesh = transformed_mesh(obj.mesh, obj.T_world_object);
       scene.objects.push_back(std::move(obj));
       placed = true;
     }

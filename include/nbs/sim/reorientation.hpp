@@ -27,6 +27,7 @@
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
+#include "nbs/mesh/transformed_mesh.hpp"
 #include "nbs/scene/detail/footprint.hpp"
 
 namespace nbs {
@@ -86,15 +87,6 @@ struct Placement {
     area += a;
   }
   return sum / area;
-}
-
-/// A copy of `mesh` moved by `T` (vertices T·v, normals R·n). Throws InvalidArgument if T is not finite and rigid.
-[[nodiscard]] inline IndexedMesh transformed_mesh(const IndexedMesh& mesh, const Pose& T) {
-  validate_pose(T, "transformed_mesh: T");
-  IndexedMesh out = mesh;
-  for (Vec3& v : out.vertices) v = T * v;
-  for (Vec3& n : out.normals) n = T.linear() * n;
-  return out;
 }
 
 namespace detail {
