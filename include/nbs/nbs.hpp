@@ -170,3 +170,8 @@
 #include "nbs/utility/utility_function.hpp"
 #include "nbs/utility/utility_term.hpp"
 #include "nbs/utility/voxel_visit.hpp"
+
+#include "nbs/workspace/platform_pan_tilt.hpp"
+#include "nbs/workspace/stagnation.hpp"
+#include "nbs/workspace/workspace_loop.hpp"
+#include "nbs/workspace/workspace_utility.hpp"
