@@ -159,6 +159,7 @@ TEST_CASE("workspace candidates: 15 pan/tilt per platform position, a pose by ha
 TEST_CASE("workspace utility: the platform penalty of Eq. 5.2 on hand-built numbers", "[workspace][utility]") {
   const nbs::PlatformPenalty p;  // 0.8, 3 m
   CHECK(p.apply(2.0, 0.0) == 2.0);                   // the platform stays: unchanged
+  CHECK(p.apply(2.0, 1e-12) == 2.0);                 // rounding of the grid offsets counts as no move
   CHECK(p.apply(2.0, 1.5) == Approx(0.4 * 2.0));     // 0.8 · (1 − 1.5/3)
   CHECK(p.apply(2.0, 0.25) == Approx(0.8 * (1.0 - 0.25 / 3.0) * 2.0));
   CHECK(p.apply(2.0, 3.0) == 0.0);                   // at the maximum distance
@@ -180,6 +181,32 @@ TEST_CASE("workspace utility: the platform penalty of Eq. 5.2 on hand-built numb
   REQUIRE(e.best < c.size());
   CHECK(e.information_gain[e.best] > 0.0);
   CHECK(c[e.best].platform_offset_m == Approx(0.25));  // an unknown box: moving costs at least 20 %
+}
+
+TEST_CASE("workspace update downscaling keeps the pixels of every 4th row and column", "[workspace][downscale]") {
+  const TableScene scene;
+  const nbs::AreaSensor cam = workspace_camera();
+  const nbs::PlatformPanTiltSetting s;
+  const nbs::Pose pose = s.sensor_pose(0.0, 0.0, -40 * kDeg);
+  const nbs::Scan full = scene.scan(nbs::LinearScanPath(nbs::Viewpoint(pose)), cam, 0);
+  // Oracle: the scene cast at the kept pixels only, in the same order.
+  std::vector<Vec3> want;
+  for (int v = 0; v < cam.height_px; v += 4)
+    for (int u = 0; u < cam.width_px; u += 4) {
+      const Vec3 d = pose.linear() * cam.ray_direction_sensor(u, v);
+      const auto t = scene.hit(pose.translation(), d);
+      if (t && cam.range.contains(*t)) want.push_back(pose.translation() + *t * d);
+    }
+  const nbs::Scan down = nbs::downscale_area_scan(full, cam, 4);
+  REQUIRE(want.size() > 50);
+  CHECK(down.points == want);
+  CHECK(down.rays_cast == 24u * 18u);
+  CHECK(down.profile_poses.size() == 1);
+  CHECK(nbs::downscale_area_scan(full, cam, 1).points == full.points);
+  CHECK_THROWS_WITH(nbs::downscale_area_scan(full, cam, 0), nbs_test::Contains("factor must be >= 1"));
+  nbs::Scan two = full;
+  two.profile_poses.push_back(pose);
+  CHECK_THROWS_WITH(nbs::downscale_area_scan(two, cam, 4), nbs_test::Contains("one profile pose"));
 }
 
 TEST_CASE("workspace stagnation rule on hand-built free-voxel counts", "[workspace][stagnation]") {

@@ -21,7 +21,8 @@
 namespace nbs {
 
 /// The platform penalty of Eq. (5.2): with o_y = |s_candidate − s_current| (metres along the platform's line),
-/// f_utility ← factor · (1 − o_y / max_distance_m) · f_utility if o_y > 0, unchanged if o_y = 0. Beyond the
+/// f_utility ← factor · (1 − o_y / max_distance_m) · f_utility if o_y > 0, unchanged if o_y = 0 (o_y ≤ 1e-9 m, the
+/// rounding of grid offsets, counts as 0). Beyond the
 /// maximum distance (o_y > max_distance_m) the bracket would turn negative; we clamp it at 0 (such a candidate gets
 /// utility 0). Thesis values: factor 0.8, max distance 3 m.
 struct PlatformPenalty {
@@ -35,7 +36,7 @@ struct PlatformPenalty {
   /// The multiplier for a platform move of o_y metres (1 for o_y = 0). Throws InvalidArgument for o_y < 0 or NaN.
   [[nodiscard]] double multiplier(double o_y_m) const {
     detail::require(o_y_m >= 0.0, "PlatformPenalty: platform offset o_y must be >= 0, got ", o_y_m);
-    if (o_y_m == 0.0) return 1.0;
+    if (o_y_m <= 1e-9) return 1.0;
     return factor * std::max(0.0, 1.0 - o_y_m / max_distance_m);
   }
   /// Eq. (5.2) applied to utility f.
