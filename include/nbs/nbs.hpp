@@ -138,6 +138,7 @@
 #include "nbs/sim/sphere_on_pedestal.hpp"
 #include "nbs/sim/surface_color.hpp"
 #include "nbs/sim/surface_samples.hpp"
+#include "nbs/sim/workspace_scene.hpp"
 
 #include "nbs/space/all.hpp"
 #include "nbs/space/backend.hpp"
@@ -171,3 +172,8 @@
 #include "nbs/utility/utility_function.hpp"
 #include "nbs/utility/utility_term.hpp"
 #include "nbs/utility/voxel_visit.hpp"
+#include "nbs/workspace/collision_model.hpp"
+#include "nbs/workspace/platform_pan_tilt.hpp"
+#include "nbs/workspace/stagnation.hpp"
+#include "nbs/workspace/workspace_loop.hpp"
+#include "nbs/workspace/workspace_utility.hpp"

@@ -18,5 +18,6 @@ TEST_CASE("the umbrella header nbs/nbs.hpp gives a symbol of every folder", "[co
   CHECK(nbs::VoxelKey{1, 2, 3}.x == 1);  // space
   CHECK(nbs::MaxScansReached(3).max_scans == 3);  // termination
   CHECK(nbs::voxel_entropy(0.5) > 0.0);  // utility
+  CHECK(nbs::PlatformPenalty{}.multiplier(0.0) == 1.0);  // workspace
   CHECK(pose.translation().norm() == 0.0);
 }
