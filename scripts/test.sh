@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs what is missing, then builds and runs the tests with -Wall -Wextra -Werror:
-#   1. Release                           (build/test-release: every test, the examples and benchmarks)
+#   1. Release                           (build/test-release: every test, the examples; the benchmarks are only
+#                                         compiled, at -O0)
 #   2. ASan + UBSan + float-cast-overflow (build/test-asan; every test — the examples are compiled in step 1)
 #   3. ThreadSanitizer                   (build/test-tsan; only the tests that run threads, tsan_tests below)
 # Steps 1 and 2 are unity builds (CMAKE_UNITY_BUILD: the sources of one test executable compiled as one unit, so the
@@ -41,13 +42,15 @@ phase() {  # name, command...: runs the command and prints how long it took
   echo "=== [$name] took $((SECONDS - start)) s"
 }
 
-# The ASan build uses -O0 -g1: it compiles in half the time of -O1 (the suite's time is compile time) and still
-# gives file:line stacks; TSan keeps -O1 (it is slow unoptimised and builds only five executables).
+# The ASan build compiles at -O0 -g1 (half the compile time of -O1; file:line stacks), except the tests that run
+# long (tests/CMakeLists.txt NBS_SLOW_TESTS: -O1, Eigen unoptimised is ~8× slower); TSan keeps -O1 (it builds
+# only five executables).
 asan_flags="-O0 -g1 -DNDEBUG" tsan_flags="-O1 -g1 -DNDEBUG"
-run_config release "" "" -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON -DCMAKE_UNITY_BUILD=ON
+run_config release "" "" -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON -DCMAKE_UNITY_BUILD=ON \
+  -DNBS_BENCH_CHECK_FLAGS=-O0
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   run_config asan "" "" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="$asan_flags" -DNBS_SANITIZE=ON -DNBS_BUILD_EXAMPLES=OFF \
-  -DCMAKE_UNITY_BUILD=ON
+  -DCMAKE_UNITY_BUILD=ON -DNBS_SLOW_TEST_FLAGS=-O1
 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   run_config tsan "${tsan_tests[*]/#/test_}" "^($(IFS='|'; echo "${tsan_tests[*]}"))\$" \
   -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="$tsan_flags" -DNBS_SANITIZE_THREAD=ON -DNBS_BUILD_EXAMPLES=OFF

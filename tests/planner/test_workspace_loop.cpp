@@ -203,7 +203,8 @@ TEST_CASE("workspace update downscaling keeps the pixels of every 4th row and co
   CHECK(down.rays_cast == 24u * 18u);
   CHECK(down.profile_poses.size() == 1);
   CHECK(nbs::downscale_area_scan(full, cam, 1).points == full.points);
-  CHECK_THROWS_WITH(nbs::downscale_area_scan(full, cam, 0), nbs_test::Contains("factor must be >= 1"));
+  CHECK_THROWS_WITH(nbs::downscale_area_scan(full, cam, 0), nbs_test::Contains("factor must be in [1, the image side], got 0"));
+  CHECK_THROWS_WITH(nbs::downscale_area_scan(full, cam, 100000), nbs_test::Contains("got 100000"));
   nbs::Scan two = full;
   two.profile_poses.push_back(pose);
   CHECK_THROWS_WITH(nbs::downscale_area_scan(two, cam, 4), nbs_test::Contains("one profile pose"));
@@ -282,5 +283,37 @@ TEST_CASE("workspace loop: a box too large for the memory limit without flushing
   w = workspace_setting();
   w.flush.idle_scans = 1;  // a rule without a directory
   CHECK_THROWS_WITH(run(w, space), nbs_test::Contains("need a directory"));
+  // Flushing by idle_scans alone does not bound the memory: still refused.
+  nbs_test::TempDir dir("nbs_test_workspace_limit_");
+  w.flush.directory = dir.path;
+  w.memory_limit_bytes = need - 1;
+  CHECK_THROWS_WITH(run(w, space), nbs_test::Contains("memory_budget_bytes"));
+  w = workspace_setting();
+  w.update_downscale = 100000;
+  CHECK_THROWS_WITH(run(w, space), nbs_test::Contains("update_downscale must be in [1, "));
+  w = workspace_setting();
+  w.platform.pan_step_rad = 1e-5;
+  w.platform.tilt_step_rad = 1e-5;
+  CHECK_THROWS_WITH(run(w, space), nbs_test::Contains("more than 10^6 candidates"));
   CHECK(space.totals().points == 0);
+}
+
+TEST_CASE("workspace loop: where Eq. 5.2 is 0 for every move, views with information gain are still taken",
+          "[workspace][loop]") {
+  nbs::WorkspaceSetting w = workspace_setting();
+  w.penalty.max_distance_m = 1e-3;   // any platform move: utility 0
+  w.stop.min_relative_growth = 0.0;  // no stagnation stop: after the 15 views of the first position, it must move
+  w.stop.max_views = 18;
+  Space space(0.04, kBox);
+  const nbs::WorkspaceResult r = run(w, space);
+  CHECK(r.stop != nbs::WorkspaceStop::no_information_gain);
+  bool moved = false;
+  for (const nbs::WorkspaceStep& s : r.steps) {
+    if (s.platform_move_m > 0.0) {
+      moved = true;
+      CHECK(s.utility == 0.0);
+      CHECK(s.information_gain > 0.0);
+    }
+  }
+  CHECK(moved);
 }

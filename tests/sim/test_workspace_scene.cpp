@@ -63,6 +63,15 @@ TEST_CASE("workspace scene: furniture in the box, objects on the surfaces, apart
       if (std::abs(other.min.z() - b.min.z()) < 1e-9) CHECK_FALSE(overlap_xy(other, b));
     boxes.push_back(b);
   }
+  // The platform drives in front of the box, within its width, looking into it.
+  REQUIRE_NOTHROW(scene.platform.validate());
+  CHECK(scene.platform.base_view_direction == Vec3::UnitY());
+  for (const double s : {scene.platform.platform_min_m, scene.platform.platform_max_m}) {
+    const Vec3 p = scene.platform.line_origin_m + s * scene.platform.line_direction;
+    CHECK(p.y() < setting.box.min.y());
+    CHECK(p.x() > setting.box.min.x());
+    CHECK(p.x() < setting.box.max.x());
+  }
   // Seeded: the same seed gives the same scene, another seed another one.
   const WorkspaceScene again = make_workspace_scene(setting, meshes);
   CHECK(again.mesh.vertices == scene.mesh.vertices);

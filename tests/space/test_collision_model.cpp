@@ -16,7 +16,7 @@
 
 namespace {
 using nbs::VoxelKey;
-using Space = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
+using LogOddsCollisionSpace = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>;
 using KeySet = std::set<std::tuple<int, int, int>>;
 constexpr int kOffsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
@@ -46,7 +46,7 @@ int exposed(const KeySet& s, const std::tuple<int, int, int>& k) {
 
 TEST_CASE("Collision model: low p dropped, unknown by option, floating blob and inner voxels removed",
           "[space][collision_model]") {
-  Space space(nbs::test::kSceneVoxel, nbs::test::kSceneBox);
+  LogOddsCollisionSpace space(nbs::test::kSceneVoxel, nbs::test::kSceneBox);
   nbs::test::fill_collision_scene(space);
   for (const bool include_unknown : {true, false}) {
     CAPTURE(include_unknown);
@@ -90,7 +90,7 @@ TEST_CASE("Collision model: low p dropped, unknown by option, floating blob and 
 }
 
 TEST_CASE("Collision mesh: closed, outward, one quad per exposed face", "[space][collision_model]") {
-  Space space(nbs::test::kSceneVoxel, nbs::test::kSceneBox);
+  LogOddsCollisionSpace space(nbs::test::kSceneVoxel, nbs::test::kSceneBox);
   nbs::test::fill_collision_scene(space);
   for (const bool include_unknown : {true, false}) {
     CAPTURE(include_unknown);
@@ -134,7 +134,7 @@ TEST_CASE("Collision mesh: closed, outward, one quad per exposed face", "[space]
 }
 
 TEST_CASE("Collision model: bad settings are rejected", "[space][collision_model]") {
-  Space space(nbs::test::kSceneVoxel, nbs::test::kSceneBox);
+  LogOddsCollisionSpace space(nbs::test::kSceneVoxel, nbs::test::kSceneBox);
   nbs::test::fill_collision_scene(space);
   const auto bad = [&](auto edit) {
     nbs::CollisionModelSetting s;

@@ -24,6 +24,7 @@
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/mesh/transformed_mesh.hpp"
 #include "nbs/sim/test_objects.hpp"
+#include "nbs/workspace/platform_pan_tilt.hpp"
 
 namespace nbs {
 
@@ -58,12 +59,18 @@ struct WorkspaceScene {
   std::vector<Aabb> furniture;           ///< floor slab, shelf parts, table parts, belt (solid boxes)
   std::vector<WorkspaceObject> objects;  ///< in placement order
   double scale = 1.0;                    ///< furniture scale: min(size.x / 4, size.y / 4, size.z / 2)
+  /// Where a mobile platform explores it from (Sec. 5.5, "approximately centred in front of the workspace along the
+  /// long side with the PTU facing the scene"): a line along x, 0.05 m in front of the box (the robot stands outside
+  /// the workspace it models), offsets
+  /// −1.5…1.5 m in 0.25 m steps (the step not below 0.05 m), the pan/tilt centre 1.3 m above the floor, looking
+  /// at +y; the thesis's pan/tilt grid (all lengths × scale).
+  PlatformPanTiltSetting platform;
 };
 
 /// Builds the workspace of `setting` with objects chosen (seeded) from `meshes` (each normalised upright: z up as
 /// given, scaled to object_size_m · scale, random yaw). Shelf: 2 m wide, 0.4 m deep, 1.8 m high, boards at 0.05,
-/// 0.5, 0.95, 1.4 m, 0.2 m in front of the back of the box; table: 2.4 × 0.6 m top at 0.8 m on four legs with a
-/// belt on it, centred 0.2 m behind the box centre (all × scale). No object when `meshes` is empty. Throws
+/// 0.5, 0.95, 1.4 m, its back 1 m in front of the back of the box (within an RGB-D camera's 3.5 m of the platform);
+/// table: 2.4 × 0.6 m top at 0.8 m on four legs with a belt on it, 0.5 m in front of the box centre (all × scale). No object when `meshes` is empty. Throws
 /// InvalidArgument for an invalid setting or mesh.
 [[nodiscard]] inline WorkspaceScene make_workspace_scene(const WorkspaceSceneSetting& setting,
                                                          std::span<const IndexedMesh> meshes = {}) {
@@ -82,7 +89,7 @@ struct WorkspaceScene {
   // Floor slab (its top is the floor).
   part(Vec3(setting.box.min.x(), setting.box.min.y(), z0 - 0.02 * s), Vec3(setting.box.max.x(), setting.box.max.y(), z0));
   // Shelf: two side panels, a back panel, five boards (the lowest just above the floor, the top one as a roof).
-  const double sx0 = cx - 1.0 * s, sx1 = cx + 1.0 * s, sy1 = setting.box.max.y() - 0.2 * s, sy0 = sy1 - 0.4 * s;
+  const double sx0 = cx - 1.0 * s, sx1 = cx + 1.0 * s, sy1 = setting.box.max.y() - 1.0 * s, sy0 = sy1 - 0.4 * s;
   const double t = 0.02 * s, top = 1.8 * s;
   part(Vec3(sx0, sy0, z0), Vec3(sx0 + t, sy1, z0 + top));
   part(Vec3(sx1 - t, sy0, z0), Vec3(sx1, sy1, z0 + top));
@@ -94,14 +101,21 @@ struct WorkspaceScene {
     if (zb < 1.7) surfaces.emplace_back(hi.z(), Aabb{lo, hi});
   }
   // Table with a belt: top 2.4 × 0.6 m at 0.8 m, legs 0.05 m square, belt 2.3 × 0.4 × 0.06 m.
-  const double tx0 = cx - 1.2 * s, tx1 = cx + 1.2 * s, ty0 = cy - 0.1 * s, ty1 = cy + 0.5 * s;
+  const double tx0 = cx - 1.2 * s, tx1 = cx + 1.2 * s, ty0 = cy - 0.5 * s, ty1 = cy + 0.1 * s;
   const double tz = z0 + 0.8 * s, leg = 0.05 * s;
   part(Vec3(tx0, ty0, tz - 0.04 * s), Vec3(tx1, ty1, tz));
   for (const double lx : {tx0, tx1 - leg})
     for (const double ly : {ty0, ty1 - leg}) part(Vec3(lx, ly, z0), Vec3(lx + leg, ly + leg, tz - 0.04 * s));
-  const Vec3 belt_lo(cx - 1.15 * s, cy + 0.0 * s, tz), belt_hi(cx + 1.15 * s, cy + 0.4 * s, tz + 0.06 * s);
+  const Vec3 belt_lo(cx - 1.15 * s, cy - 0.4 * s, tz), belt_hi(cx + 1.15 * s, cy + 0.0 * s, tz + 0.06 * s);
   part(belt_lo, belt_hi);
   surfaces.emplace_back(belt_hi.z(), Aabb{belt_lo, belt_hi});
+  scene.platform.line_origin_m = Vec3(cx, setting.box.min.y() - 0.05 * s, z0);
+  scene.platform.line_direction = Vec3::UnitX();
+  scene.platform.platform_min_m = -1.5 * s;
+  scene.platform.platform_max_m = 1.5 * s;
+  scene.platform.platform_step_m = std::max(0.25 * s, 0.05);
+  scene.platform.ptu_offset_m = Vec3(0.0, 0.0, 1.3 * s);
+  scene.platform.base_view_direction = Vec3::UnitY();
 
   if (meshes.empty()) return scene;
   std::mt19937_64 rng(detail::splitmix64(setting.seed));

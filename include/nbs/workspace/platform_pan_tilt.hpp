@@ -68,6 +68,12 @@ struct PlatformPanTiltSetting {
     detail::require(tilt_min_rad > -kRight && tilt_max_rad < kRight,
                     "PlatformPanTiltSetting: tilt must stay inside (-90 deg, 90 deg), got [", tilt_min_rad, ", ",
                     tilt_max_rad, "] rad");
+    const auto count = [](double min, double max, double step) { return std::floor((max - min) / step + 1e-9) + 1.0; };
+    const double n_platform = count(platform_min_m, platform_max_m, platform_step_m),
+                 n_pan = count(pan_min_rad, pan_max_rad, pan_step_rad),
+                 n_tilt = count(tilt_min_rad, tilt_max_rad, tilt_step_rad);
+    detail::require(n_platform * n_pan * n_tilt <= 1e6, "PlatformPanTiltSetting: ", n_platform, " platform positions x ",
+                    n_pan, " pans x ", n_tilt, " tilts are more than 10^6 candidates");
   }
 
   /// Values min + i · step ≤ max (+1e-9) of one axis.

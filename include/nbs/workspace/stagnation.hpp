@@ -15,10 +15,10 @@
 namespace nbs {
 
 /// Free voxels of the space: observed voxels inside its unknown-area box (`bounds_keys()`) with occupancy
-/// probability p < `free_below` (Sec. 5.5 uses 25 %: "all voxels with a probability p to be occupied below 25 % are
-/// removed"). Unobserved voxels are unknown (p = 0.5), never free. Reads flushed blocks from disk.
+/// probability p < `free_below` (default 0.5, as StagnationSetting; the thesis's V_free is p < 0.25, l. 742).
+/// Unobserved voxels are unknown (p = 0.5), never free. Reads flushed blocks from disk.
 template <VoxelSpace Space>
-[[nodiscard]] std::uint64_t free_voxel_count(const Space& space, double free_below = 0.25) {
+[[nodiscard]] std::uint64_t free_voxel_count(const Space& space, double free_below = 0.5) {
   detail::require_in_range("free_voxel_count: free_below", free_below, 0.0, 1.0);
   const KeyBox box = space.bounds_keys();
   std::uint64_t n = 0;
@@ -37,12 +37,27 @@ enum class WorkspaceStop {
   candidates_exhausted, ///< every candidate has been taken (loop only)
 };
 
+/// The enumerator's name ("running", "stagnated", …).
+[[nodiscard]] constexpr const char* to_string(WorkspaceStop s) {
+  switch (s) {
+    case WorkspaceStop::running: return "running";
+    case WorkspaceStop::stagnated: return "stagnated";
+    case WorkspaceStop::max_views: return "max_views";
+    case WorkspaceStop::no_information_gain: return "no_information_gain";
+    case WorkspaceStop::candidates_exhausted: return "candidates_exhausted";
+  }
+  return "?";
+}
+
 /// Stagnation stop. With c_n the free-voxel count (free_voxel_count, p < free_below) after view n (n = 1, 2, …):
 /// stop after view n as **stagnated** if n > window and c_n − c_{n−window} < min_relative_growth · c_n (a shrinking count
 /// stagnates too; an all-zero history does not, as 0 < 0 is false); otherwise as **max_views** if n ≥ max_views. Defaults: growth below 1 % of the current count over the last 2 views,
-/// at most 30 views.
+/// at most 30 views. Free means p < 0.5 by default (evidence of free space, no hit), not the thesis's V_free (p < 0.25,
+/// l. 742): with ThesisModel's prob_free = 0.4 a voxel needs three independent beams to fall below 0.25, and one view
+/// of an area sensor gives most voxels one (the beam-independence rule rejects its neighbouring rays), so p < 0.25
+/// counts revisits, not exploration, and stagnated after six views of a 1 × 1 × 0.5 m workspace seen once.
 struct StagnationSetting {
-  double free_below = 0.25;           ///< free: p < free_below, in [0, 1]
+  double free_below = 0.5;            ///< free: p < free_below, in [0, 1]
   double min_relative_growth = 0.01;  ///< ≥ 0
   std::size_t window = 2;             ///< k ≥ 1 views
   std::size_t max_views = 30;         ///< ≥ 1

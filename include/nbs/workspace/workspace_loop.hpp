@@ -7,6 +7,7 @@
 /// (stagnation.hpp). The collision model is exported afterwards from the space (not here).
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -53,7 +54,11 @@ struct WorkspaceSetting {
     sensor.validate();
     detail::require(planning_downscale >= 1, "WorkspaceSetting.planning_downscale must be >= 1, got ",
                     planning_downscale);
-    detail::require(update_downscale >= 1, "WorkspaceSetting.update_downscale must be >= 1, got ", update_downscale);
+    const auto pixels = static_cast<std::size_t>(std::max(sensor.width_px, sensor.height_px));
+    detail::require(planning_downscale <= pixels, "WorkspaceSetting.planning_downscale must be <= the image side ",
+                    pixels, ", got ", planning_downscale);
+    detail::require(update_downscale >= 1 && update_downscale <= pixels,
+                    "WorkspaceSetting.update_downscale must be in [1, ", pixels, "], got ", update_downscale);
     detail::require(std::isfinite(initial_platform_m), "WorkspaceSetting.initial_platform_m is not finite: ",
                     initial_platform_m);
     flush.validate("WorkspaceSetting.flush");
@@ -116,8 +121,9 @@ template <VoxelSpace Space>
 /// factor 1 returns the scan unchanged. Throws InvalidArgument for factor 0, an invalid sensor or scan, or a scan
 /// with other than one profile pose.
 [[nodiscard]] inline Scan downscale_area_scan(const Scan& scan, const AreaSensor& sensor, std::size_t factor) {
-  detail::require(factor >= 1, "downscale_area_scan: factor must be >= 1, got ", factor);
   sensor.validate();
+  detail::require(factor >= 1 && factor <= static_cast<std::size_t>(std::max(sensor.width_px, sensor.height_px)),
+                  "downscale_area_scan: factor must be in [1, the image side], got ", factor);
   scan.validate();
   detail::require(scan.profile_poses.size() == 1, "downscale_area_scan: an area-sensor frame has one profile pose, "
                   "got ", scan.profile_poses.size());
@@ -142,12 +148,14 @@ template <VoxelSpace Space>
 
 /// Workspace modeling (Sec. 5.5). Before the first view: validates `setting`, builds the candidates
 /// (pan_tilt_candidates), refuses (InvalidArgument, nothing changed) a box whose worst_case_memory_bytes exceeds
-/// memory_limit_bytes while flushing is off, and applies setting.flush to the space's backend (InvalidArgument if
+/// memory_limit_bytes unless flushing with a memory budget is on (in setting.flush, or already on the space's
+/// backend while setting.flush is off), and applies setting.flush to the space's backend (InvalidArgument if
 /// it is on and the backend is not a FlushableBackend). Then per view n = 1, 2, …:
 /// 1. evaluate every candidate not taken yet (evaluate_workspace_candidates: e_v, Eq. 4.30 with ω = 0, × Eq. 5.2 relative to the
 ///    current platform offset, initially initial_platform_m; the first view is planned the same way, over the
-///    still unknown box); pick the largest utility, ties to the lowest index; if none is finite or the largest is
-///    ≤ 0, stop with no_information_gain (no view taken). The chosen candidate leaves the set, as in NbsPlanner:
+///    still unknown box); pick the largest utility, ties to the lowest index; if no utility is > 0 (Eq. 5.2 is 0 from
+///    max_distance_m on) take the largest IG instead; if no IG is > 0 either, stop with no_information_gain (no view
+///    taken). The chosen candidate leaves the set, as in NbsPlanner:
 ///    taken again, its beams would be rejected by the space's beam-independence rule (Sec. 3.3.2) wherever they
 ///    updated it the first time, while its e_v barely drops (a voxel seen free once still has p ≈ 0.4, ≈ 0.97 bit),
 ///    so it would be chosen forever. No candidate left: stop with candidates_exhausted;
@@ -163,12 +171,18 @@ template <VoxelSpace Space, ScanDriver Source>
 WorkspaceResult run_workspace_modeling(Space& space, Source& source, const WorkspaceSetting& setting) {
   setting.validate();
   const std::vector<PanTiltCandidate> candidates = pan_tilt_candidates(setting.platform);
-  if (!setting.flush.enabled() && setting.memory_limit_bytes > 0) {
+  // Bounded memory needs a memory budget (idle_scans alone does not bound it), set here or on the space already.
+  bool budget = setting.flush.enabled() && setting.flush.memory_budget_bytes > 0;
+  if constexpr (detail::FlushableSpace<Space>) {
+    const BlockFlushSetting& current = space.backend().flush_policy();
+    budget = budget || (!setting.flush.enabled() && current.enabled() && current.memory_budget_bytes > 0);
+  }
+  if (!budget && setting.memory_limit_bytes > 0) {
     const std::uint64_t need = worst_case_memory_bytes(space);
     detail::require(need <= setting.memory_limit_bytes, "run_workspace_modeling: the workspace box needs up to ",
                     need, " bytes with every voxel allocated, more than WorkspaceSetting.memory_limit_bytes = ",
-                    setting.memory_limit_bytes, "; switch on block flushing (WorkspaceSetting.flush), use coarser "
-                    "voxels or a smaller box");
+                    setting.memory_limit_bytes, "; switch on block flushing with a memory budget "
+                    "(WorkspaceSetting.flush.memory_budget_bytes), use coarser voxels or a smaller box");
   }
   if constexpr (!detail::FlushableSpace<Space>) {
     detail::require(!setting.flush.enabled(), "WorkspaceSetting.flush: the voxel space cannot flush blocks to disk "
@@ -191,14 +205,26 @@ WorkspaceResult run_workspace_modeling(Space& space, Source& source, const Works
     const WorkspaceEvaluation eval =
         evaluate_workspace_candidates(std::span<const PanTiltCandidate>(open_candidates), setting.sensor, space,
                                       platform_m, setting.penalty, setting.planning_downscale, setting.threads);
-    if (eval.best == EvaluationResult::npos || !(eval.utility[eval.best] > 0.0)) {
-      result.stop = WorkspaceStop::no_information_gain;
-      break;
+    std::size_t pick = eval.best;
+    if (pick == EvaluationResult::npos || !(eval.utility[pick] > 0.0)) {
+      // Eq. 5.2 is 0 from max_distance_m on: while a candidate still has information gain, take the largest
+      // (ties: lowest index) rather than stopping with space left to explore.
+      pick = EvaluationResult::npos;
+      double best = 0.0;
+      for (std::size_t i = 0; i < eval.information_gain.size(); ++i)
+        if (eval.information_gain[i] > best) {
+          best = eval.information_gain[i];
+          pick = i;
+        }
+      if (pick == EvaluationResult::npos) {
+        result.stop = WorkspaceStop::no_information_gain;
+        break;
+      }
     }
-    const std::size_t chosen = open[eval.best];
+    const std::size_t chosen = open[pick];
     const PanTiltCandidate c = candidates[chosen];
-    open.erase(open.begin() + static_cast<std::ptrdiff_t>(eval.best));
-    open_candidates.erase(open_candidates.begin() + static_cast<std::ptrdiff_t>(eval.best));
+    open.erase(open.begin() + static_cast<std::ptrdiff_t>(pick));
+    open_candidates.erase(open_candidates.begin() + static_cast<std::ptrdiff_t>(pick));
     source.move_to(c.T_WS);
     const Scan scan = source.acquire(LinearScanPath(Viewpoint(c.T_WS)));
     const auto t0 = std::chrono::steady_clock::now();

@@ -3,7 +3,9 @@
 /// \file
 /// The collision model (nbs/workspace/collision_model.hpp) as an `octomap::OcTree` and as an OctoMap file (`.bt`
 /// binary, `.ot` full) for FCL / MoveIt-style consumers. Only the model's voxels become leaves (occupied); all other
-/// space is unknown to the tree (no free leaves), which such consumers treat as collision-free.
+/// space is unknown to the tree (no free leaves), which such consumers treat as collision-free. Export a model
+/// built with CollisionModelSetting::remove_inner = false: a hollow model leaves the obstacles' interiors unknown (a
+/// body entirely inside an obstacle would not collide), and full interiors prune into large leaves anyway.
 
 #include <octomap/OcTree.h>
 
