@@ -10,7 +10,7 @@ quick=0
 [[ "${1:-}" == "--quick" ]] && quick=1
 scripts/install-deps.sh --with-bench-incumbents  # + the benchmark-only incumbents (Open3D, PCL)
 dir=build/bench
-cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON -DNBS_BUILD_TESTS=OFF -DNBS_BENCH_CHECK_FLAGS= \
+cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON -DNBS_BUILD_TESTS=OFF -DNBS_WERROR=ON \
       -DNBS_BUILD_EXAMPLES=OFF >/dev/null
 cmake --build "$dir" -j "$(nproc)"
 log=$(mktemp)

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs what is missing, then builds and runs the tests with -Wall -Wextra -Werror:
-#   1. Release                           (build/test-release: every test, the examples; the benchmarks are only
-#                                         compiled, at -O0)
+#   1. Release                           (build/test-release: every test and the examples; the benchmarks and the
+#                                         research tool nbs_diagnose are built by scripts/bench.sh, with -Werror)
 #   2. ASan + UBSan + float-cast-overflow (build/test-asan; every test — the examples are compiled in step 1)
 #   3. ThreadSanitizer                   (build/test-tsan; only the tests that run threads, tsan_tests below)
 # Steps 1 and 2 are unity builds (CMAKE_UNITY_BUILD: the sources of one test executable compiled as one unit, so the
@@ -46,8 +46,7 @@ phase() {  # name, command...: runs the command and prints how long it took
 # long (tests/CMakeLists.txt NBS_SLOW_TESTS: -O1, Eigen unoptimised is ~8× slower); TSan keeps -O1 (it builds
 # only five executables).
 asan_flags="-O0 -g1 -DNDEBUG" tsan_flags="-O1 -g1 -DNDEBUG"
-run_config release "" "" -DCMAKE_BUILD_TYPE=Release -DNBS_BUILD_BENCHMARKS=ON -DCMAKE_UNITY_BUILD=ON \
-  -DNBS_BENCH_CHECK_FLAGS=-O0
+run_config release "" "" -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   run_config asan "" "" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="$asan_flags" -DNBS_SANITIZE=ON -DNBS_BUILD_EXAMPLES=OFF \
   -DCMAKE_UNITY_BUILD=ON -DNBS_SLOW_TEST_FLAGS=-O1
