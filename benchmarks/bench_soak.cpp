@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <numeric>
 #include <random>
@@ -22,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/process_memory.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
 #include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
@@ -39,17 +39,10 @@ struct Rss {
   double rss_mib = 0.0;  // VmRSS
   double hwm_mib = 0.0;  // VmHWM (peak RSS)
 };
-/// VmRSS and VmHWM of this process, MiB (0 if /proc/self/status is unreadable).
+/// VmRSS and VmHWM of this process, MiB (0 if unknown).
 Rss read_rss() {
-  Rss r;
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto value = [&] { return std::stod(line.substr(line.find(':') + 1)) / 1024.0; };  // kB → MiB
-    if (line.rfind("VmRSS:", 0) == 0) r.rss_mib = value();
-    if (line.rfind("VmHWM:", 0) == 0) r.hwm_mib = value();
-  }
-  return r;
+  const nbs::tools::ProcessMemory m = nbs::tools::process_memory();
+  return {double(m.rss_bytes) / 1048576.0, double(m.peak_bytes) / 1048576.0};
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

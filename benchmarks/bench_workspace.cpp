@@ -10,20 +10,17 @@
 //                                 counted once each way, per second of both calls; a space of ≈ 1 × 1 × 0.5 m at
 //                                 5 mm after two frames, on the build directory's disk (report; no incumbent)
 // Report figures: no incumbent holds a workspace NBV loop.
-#include <sys/resource.h>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <vector>
 
+#include "common/process_memory.hpp"
 #include "headline.hpp"
 #include "nbs/driver/simulated_driver.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
-#include "nbs/io/load_mesh.hpp"
-#include "nbs/mesh/normalize.hpp"
 #include "nbs/sensor/presets.hpp"
-#include "nbs/sim/test_objects.hpp"
 #include "nbs/sim/workspace_scene.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "nbs/workspace/workspace_loop.hpp"
@@ -32,20 +29,7 @@ namespace {
 
 using namespace nbs;
 
-double peak_rss_gib() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) * 1024.0 / double(std::uint64_t{1} << 30);
-}
-
-std::vector<IndexedMesh> object_meshes() {
-  std::vector<IndexedMesh> meshes;
-  IndexedMesh bunny = load_mesh(NBS_DATA_DIR "/meshes/stanford-bunny.obj");
-  normalize_on_pedestal(bunny, 0.16, UpAxis::y);
-  meshes.push_back(std::move(bunny));
-  for (const TestObject o : {TestObject::mug, TestObject::car, TestObject::table}) meshes.push_back(make_test_object(o));
-  return meshes;
-}
+double peak_rss_gib() { return double(tools::process_memory().peak_bytes) / double(std::uint64_t{1} << 30); }
 
 struct Scratch {  // a folder for flushed blocks, removed at the end
   std::filesystem::path dir = std::filesystem::temp_directory_path() / "nbs_bench_workspace";
@@ -60,7 +44,7 @@ struct Scratch {  // a folder for flushed blocks, removed at the end
 
 int main() {
   const bool quick = bench::quick_mode();
-  const std::vector<IndexedMesh> meshes = object_meshes();
+  const std::vector<IndexedMesh> meshes = example_workspace_objects(NBS_DATA_DIR "/meshes/stanford-bunny.obj");
   const Scratch scratch;
   {
     WorkspaceSceneSetting ss;  // 4 × 4 × 2 m

@@ -9,7 +9,6 @@
 //   nbs_workspace [--scale 1] [--voxel 0.005] [--seed 1] [--out workspace_out] [--budget-gib 1]
 //   (--scale 0.25: a 1 × 1 × 0.5 m box, seconds instead of minutes; --budget-gib 0: no flushing)
 
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <array>
@@ -24,16 +23,14 @@
 #include <nlohmann/json.hpp>
 
 #include "common/data_dir.hpp"
+#include "common/process_memory.hpp"
 #include "nbs/embree/render.hpp"
 #include "nbs/embree/simulated_scanner.hpp"
-#include "nbs/io/load_mesh.hpp"
 #include "nbs/io/write_json.hpp"
 #include "nbs/mesh/ply.hpp"
-#include "nbs/mesh/normalize.hpp"
 #include "nbs/driver/simulated_driver.hpp"
 #include "nbs/png/write_png.hpp"
 #include "nbs/sensor/presets.hpp"
-#include "nbs/sim/test_objects.hpp"
 #include "nbs/sim/workspace_scene.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "nbs/workspace/collision_model.hpp"
@@ -58,13 +55,6 @@ struct Options {
   bool include_unknown = false;
 };
 
-/// Peak resident memory of this process so far (Linux: ru_maxrss in KiB), bytes.
-std::uint64_t peak_rss_bytes() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<std::uint64_t>(u.ru_maxrss) * 1024;
-}
-
 void write_picture(const std::filesystem::path& path, const IndexedMesh& mesh, const Aabb& box, Rgb albedo) {
   const embree::Scene scene(mesh);
   embree::RenderSetting rs;
@@ -81,11 +71,7 @@ int run(const Options& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   std::filesystem::create_directories(opt.out);
   // The scene: the furniture of a 4 × 4 × 2 m workspace × scale, objects from the bundled meshes.
-  std::vector<IndexedMesh> meshes;
-  IndexedMesh bunny = load_mesh(tools::bundled_data("meshes/stanford-bunny.obj"));
-  normalize_on_pedestal(bunny, 0.16, UpAxis::y);
-  meshes.push_back(std::move(bunny));
-  for (const TestObject o : {TestObject::mug, TestObject::car, TestObject::table}) meshes.push_back(make_test_object(o));
+  const std::vector<IndexedMesh> meshes = example_workspace_objects(tools::bundled_data("meshes/stanford-bunny.obj"));
   WorkspaceSceneSetting ss;
   ss.box = Aabb{Vec3(-2.0, -2.0, 0.0) * opt.scale, Vec3(2.0, 2.0, 2.0) * opt.scale};
   ss.seed = opt.seed;
@@ -125,7 +111,7 @@ int run(const Options& opt) {
                       {"integrated_points", s.integrated_points}, {"t_plan_s", s.t_plan_s},
                       {"t_integrate_s", s.t_integrate_s}});
   }
-  const std::uint64_t rss_loop = peak_rss_bytes();
+  const std::uint64_t rss_loop = tools::process_memory().peak_bytes;
   const auto& fs = space.backend().flush_stats();
   const std::filesystem::path out(opt.out);
   // The run's report first (rewritten with the model below), so that a failure of the model step keeps it.

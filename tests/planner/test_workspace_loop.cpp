@@ -269,6 +269,19 @@ TEST_CASE("workspace loop: stops by stagnation, deterministic, identical with ev
   CHECK(f.backend().flush_stats().failed_writes == 0);
 }
 
+TEST_CASE("workspace loop: the worst-case memory saturates instead of overflowing", "[workspace][loop]") {
+  constexpr std::uint64_t max = std::numeric_limits<std::uint64_t>::max();
+  CHECK(nbs::mul_saturating(0, max) == 0);
+  CHECK(nbs::mul_saturating(max, 1) == max);
+  CHECK(nbs::mul_saturating(std::uint64_t{1} << 32, std::uint64_t{1} << 31) == std::uint64_t{1} << 63);
+  CHECK(nbs::mul_saturating(std::uint64_t{1} << 32, std::uint64_t{1} << 32) == max);
+  // 1 m voxels over ±10^6 m: (2·10^6 / 8)^3 blocks ≈ 1.6·10^16, times ≥ 4 KiB per block > 2^64 (long double oracle).
+  const Space huge(1.0, nbs::Aabb{nbs::Vec3::Constant(-1.0e6), nbs::Vec3::Constant(1.0e6)});
+  const long double voxels = static_cast<long double>(huge.bounds_keys().volume());
+  REQUIRE(voxels * 4.0L > static_cast<long double>(max));
+  CHECK(nbs::worst_case_memory_bytes(huge) == max);
+}
+
 TEST_CASE("workspace loop: a box too large for the memory limit without flushing is refused before starting",
           "[workspace][loop][bad]") {
   nbs::WorkspaceSetting w = workspace_setting();

@@ -13,6 +13,7 @@
 #include <numbers>
 #include <random>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -20,6 +21,7 @@
 #include "nbs/core/detail/random.hpp"
 #include "nbs/core/error.hpp"
 #include "nbs/core/types.hpp"
+#include "nbs/io/load_mesh.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 #include "nbs/mesh/normalize.hpp"
 #include "nbs/mesh/transformed_mesh.hpp"
@@ -145,6 +147,18 @@ struct WorkspaceScene {
     }
   }
   return scene;
+}
+
+/// The objects of the example workspace (examples/nbs_workspace, benchmarks/bench_workspace): the mesh at
+/// `bunny_path` (the bundled Stanford bunny, up axis y) normalized onto its pedestal at 0.16 m, then the mug, car and
+/// table test objects. Throws FileError / InvalidArgument as load_mesh and normalize_on_pedestal.
+[[nodiscard]] inline std::vector<IndexedMesh> example_workspace_objects(const std::string& bunny_path) {
+  std::vector<IndexedMesh> meshes;
+  IndexedMesh bunny = load_mesh(bunny_path);
+  normalize_on_pedestal(bunny, 0.16, UpAxis::y);
+  meshes.push_back(std::move(bunny));
+  for (const TestObject o : {TestObject::mug, TestObject::car, TestObject::table}) meshes.push_back(make_test_object(o));
+  return meshes;
 }
 
 }  // namespace nbs

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -89,10 +90,16 @@ struct WorkspaceResult {
   std::size_t candidates = 0;
 };
 
+/// a · b, or UINT64_MAX where the product overflows.
+[[nodiscard]] constexpr std::uint64_t mul_saturating(std::uint64_t a, std::uint64_t b) {
+  return a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a ? std::numeric_limits<std::uint64_t>::max() : a * b;
+}
+
 /// Upper bound of the memory the space's states take when every voxel of its unknown-area box is allocated. A
 /// backend of 8³ blocks (with `Block` and `kEdge`, e.g. HashedBlockBackend): blocks touching the box ×
 /// (sizeof(Block) + kEdge³ · sizeof(State) for side-cars such as ThesisState's surface evidence + 64 bytes of hash
-/// node); any other backend: voxels × sizeof(State) (an estimate). Bytes.
+/// node); any other backend: voxels × sizeof(State) (an estimate). Bytes, saturating at UINT64_MAX (a box of 2^21 keys per
+/// axis overflows 64 bits).
 template <VoxelSpace Space>
 [[nodiscard]] std::uint64_t worst_case_memory_bytes(const Space& space) {
   using State = typename Space::State;
@@ -104,13 +111,13 @@ template <VoxelSpace Space>
     std::uint64_t blocks = 1;
     for (int a = 0; a < 3; ++a) {
       const auto floor_div = [&](std::int64_t k) { return k >= 0 ? k / edge : -((-k + edge - 1) / edge); };
-      blocks *= static_cast<std::uint64_t>(floor_div(box.max[a]) - floor_div(box.min[a]) + 1);
+      blocks *= static_cast<std::uint64_t>(floor_div(box.max[a]) - floor_div(box.min[a]) + 1);  // ≤ 2^54
     }
     const std::uint64_t per_block =
         sizeof(typename B::Block) + static_cast<std::uint64_t>(edge * edge * edge) * sizeof(State) + 64;
-    return blocks * per_block;
+    return mul_saturating(blocks, per_block);
   } else {
-    return box.volume() * sizeof(State);
+    return mul_saturating(box.volume(), sizeof(State));
   }
 }
 
