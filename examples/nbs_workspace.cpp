@@ -96,21 +96,21 @@ int run(const Options& opt) {
               double(space.bounds_keys().volume()) / 1e6, scene.objects.size(),
               pan_tilt_candidates(ws.platform).size(),
               opt.budget_gib > 0.0 ? ("on, budget " + std::to_string(opt.budget_gib) + " GiB").c_str() : "off");
-  const WorkspaceResult r = run_workspace_modeling(space, driver, ws);
   nlohmann::ordered_json jsteps = nlohmann::json::array();
-  for (std::size_t i = 0; i < r.steps.size(); ++i) {
-    const WorkspaceStep& s = r.steps[i];
+  // One line per view as it is taken (a full-size view plans for several seconds).
+  const WorkspaceResult r = run_workspace_modeling(space, driver, ws, [&](const WorkspaceStep& s) {
     std::printf("view %2zu  platform %+.2f m (moved %.2f)  pan %+4.0f°  tilt %+4.0f°  IG %.4f  utility %.4f  "
                 "free %10llu  points %6zu  plan %.2f s  integrate %.2f s\n",
-                i + 1, s.platform_offset_m, s.platform_move_m, s.pan_rad * 180 / 3.14159265358979,
+                jsteps.size() + 1, s.platform_offset_m, s.platform_move_m, s.pan_rad * 180 / 3.14159265358979,
                 s.tilt_rad * 180 / 3.14159265358979, s.information_gain, s.utility,
                 static_cast<unsigned long long>(s.free_voxels), s.integrated_points, s.t_plan_s, s.t_integrate_s);
+    std::fflush(stdout);
     jsteps.push_back({{"platform_offset_m", s.platform_offset_m}, {"platform_move_m", s.platform_move_m},
                       {"pan_rad", s.pan_rad}, {"tilt_rad", s.tilt_rad}, {"information_gain", s.information_gain},
                       {"utility", s.utility}, {"free_voxels", s.free_voxels}, {"points", s.points},
                       {"integrated_points", s.integrated_points}, {"t_plan_s", s.t_plan_s},
                       {"t_integrate_s", s.t_integrate_s}});
-  }
+  });
   const std::uint64_t rss_loop = tools::process_memory().peak_bytes;
   const auto& fs = space.backend().flush_stats();
   const std::filesystem::path out(opt.out);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -174,8 +175,11 @@ template <VoxelSpace Space>
 /// Deterministic: the same space, source and setting give the same steps for any thread count. An exception of the
 /// source or the space propagates (steps so far are lost; the space holds the views integrated before).
 /// `source` is any ScanDriver: hardware, a `SimulatedDriver` over a ScanSimulator for AreaSensor, a replay.
-template <VoxelSpace Space, ScanDriver Source>
-WorkspaceResult run_workspace_modeling(Space& space, Source& source, const WorkspaceSetting& setting) {
+/// `on_step(step)` is called on the calling thread after each view is integrated and recorded (progress output, a
+/// checkpoint of the space); what it throws propagates as the source's exceptions do.
+template <VoxelSpace Space, ScanDriver Source, std::invocable<const WorkspaceStep&> OnStep>
+WorkspaceResult run_workspace_modeling(Space& space, Source& source, const WorkspaceSetting& setting,
+                                       OnStep&& on_step) {
   setting.validate();
   const std::vector<PanTiltCandidate> candidates = pan_tilt_candidates(setting.platform);
   // Bounded memory needs a memory budget (idle_scans alone does not bound it), set here or on the space already.
@@ -246,8 +250,8 @@ WorkspaceResult run_workspace_modeling(Space& space, Source& source, const Works
     step.platform_move_m = std::abs(c.platform_offset_m - platform_m);
     step.pan_rad = c.pan_rad;
     step.tilt_rad = c.tilt_rad;
-    step.information_gain = eval.information_gain[eval.best];
-    step.utility = eval.utility[eval.best];
+    step.information_gain = eval.information_gain[pick];
+    step.utility = eval.utility[pick];
     step.free_voxels = free_voxel_count(space, setting.stop.free_below);
     step.points = scan.size();
     step.integrated_points = st.integrated;
@@ -256,9 +260,16 @@ WorkspaceResult run_workspace_modeling(Space& space, Source& source, const Works
     platform_m = c.platform_offset_m;
     counts.push_back(step.free_voxels);
     result.steps.push_back(step);
+    on_step(result.steps.back());
     result.stop = stagnation_check(counts, setting.stop);
   }
   return result;
+}
+
+/// run_workspace_modeling without a per-view callback.
+template <VoxelSpace Space, ScanDriver Source>
+WorkspaceResult run_workspace_modeling(Space& space, Source& source, const WorkspaceSetting& setting) {
+  return run_workspace_modeling(space, source, setting, [](const WorkspaceStep&) {});
 }
 
 }  // namespace nbs
