@@ -133,6 +133,14 @@ int main(int argc, char** argv) {
   std::filesystem::remove_all(db_dir);
   explore::PpfRecogniserSetting rs;
   rs.threads = threads;
+  // NBS_BENCH_RECOGNITION_AMBIGUITY=<margin>: refuse ambiguous hypotheses (PpfRecogniserSetting::reject_ambiguous)
+  // with that q_h margin; off by default.
+  if (const char* amb = std::getenv("NBS_BENCH_RECOGNITION_AMBIGUITY")) {
+    rs.reject_ambiguous = true;
+    rs.ambiguity_margin = std::strtod(amb, nullptr);
+    std::printf("ambiguous hypotheses refused (q_h margin %.3f, ADD-S max >= %.2f x diagonal)\n", rs.ambiguity_margin,
+                rs.ambiguity_distance);
+  }
   ModelDatabase db = ModelDatabase::create(db_dir);
   const double build_s = bench::seconds([&] {
     for (const scene::ObjectSpec& o : specs)
@@ -180,6 +188,7 @@ int main(int argc, char** argv) {
     diameter[o.name] = o.mesh.bounds().extent().norm();
   }
   int recognised_adds = 0, false_positives_adds = 0;
+  int ambiguous_right = 0, ambiguous_wrong = 0;  // refused as ambiguous, within 30 mm of the truth or not
   std::map<std::string, std::vector<double>> adds_of;  // per model, ADD-S of every accepted hypothesis, mm
   PoseClusterSetting fusion_setting{0.015, 15.0 * std::numbers::pi / 180.0};
 
@@ -227,6 +236,12 @@ int main(int argc, char** argv) {
       std::vector<bool> found(sc.objects.size(), false), found_adds(sc.objects.size(), false);
       int fp_view = 0;
       for (const ClusterOutcome& c : outcomes) {
+        if (c.r.ambiguous) {  // refused as ambiguous: would it have been right?
+          const int k = truth_index.at(c.r.model);
+          const double et =
+              position_error(c.r.model, c.r.pose, sc.objects[static_cast<std::size_t>(k)].T_world_object);
+          ++(et < kCorrectM && c.truth == k ? ambiguous_right : ambiguous_wrong);
+        }
         if (!c.r.accepted) continue;
         ++accepted_total;
         const int k = truth_index.at(c.r.model);
@@ -323,6 +338,9 @@ int main(int argc, char** argv) {
               "view)\n",
               scenes * views, visible, kMinVisiblePoints, recognised, 100.0 * recall, clusters_total, accepted_total,
               false_positives, 100.0 * fp_rate, static_cast<double>(false_positives) / (scenes * views));
+  if (rs.reject_ambiguous)
+    std::printf("refused as ambiguous: %d (%d within 30 mm of the truth, %d not)\n", ambiguous_right + ambiguous_wrong,
+                ambiguous_right, ambiguous_wrong);
   std::printf("symmetry-aware (ADD-S < 0.1 x model diagonal): recognised %d (%.1f %%), false positives %d (%.1f %% of "
               "accepted)\n",
               recognised_adds, visible > 0 ? 100.0 * recognised_adds / visible : 0.0, false_positives_adds,

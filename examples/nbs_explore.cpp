@@ -117,6 +117,7 @@ void write_step_picture(const std::string& path, const Scan& frame, const scene:
       case explore::ClusterState::recognised: c = {30, 170, 30}; break;
       case explore::ClusterState::modeling: c = {235, 200, 0}; break;
       case explore::ClusterState::modeled: c = {40, 80, 220}; break;
+      case explore::ClusterState::ambiguous: c = {150, 210, 90}; break;
       case explore::ClusterState::unexplained: break;
     }
     for (const Vec3& p : seg.objects[k].points) put(p, c);

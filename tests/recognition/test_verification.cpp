@@ -256,3 +256,73 @@ TEST_CASE("PpfRecogniser keeps its own model meshes: learned from a temporary, t
   CHECK(et < 0.002);
   CHECK(r.accepted);
 }
+
+namespace {
+
+/// A mug of 16-gon prism (radius 40 mm, 100 mm high, z up from 0) with a box handle on +x (40–65 mm out,
+/// z 30–70 mm): its body is symmetric under turns of 22.5°, the handle tells them apart.
+IndexedMesh prism_mug() {
+  IndexedMesh m;
+  const int n = 16;
+  const double r = 0.04, h = 0.1;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / n;
+    m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+    m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), h);
+  }
+  const auto bottom = static_cast<std::uint32_t>(m.vertices.size());
+  m.vertices.emplace_back(0.0, 0.0, 0.0);
+  m.vertices.emplace_back(0.0, 0.0, h);
+  for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(n); ++k) {
+    const std::uint32_t a0 = 2 * k, a1 = a0 + 1, b0 = 2 * ((k + 1) % n), b1 = b0 + 1;
+    m.triangles.push_back({a0, b0, b1});
+    m.triangles.push_back({a0, b1, a1});
+    m.triangles.push_back({bottom, b0, a0});
+    m.triangles.push_back({bottom + 1, a1, b1});
+  }
+  append(m, box_mesh(Vec3(0.038, -0.01, 0.03), Vec3(0.065, 0.01, 0.07)));
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("PpfRecogniser: a mug with its handle hidden is ambiguous (another turn fits as well), with it in view "
+          "it is not",
+          "[recognition][ambiguity]") {
+  nbs_test::TempDir dir("nbs_ppf_ambiguity_");
+  ModelDatabase db = ModelDatabase::create(dir.path / "db");
+  // synthetic_scan places the object turned by 0.7 rad: its handle points at 40°; an eye azimuth of 0.55 rad puts
+  // the sensor at 220°, straight in front of the handle's far side (hidden behind the body and below its rim).
+  const double hidden = 0.55, facing = 0.55 + std::numbers::pi;
+  for (const double az : {hidden, facing}) {
+    INFO("eye azimuth " << az);
+    const SyntheticScan s = synthetic_scan(prism_mug(), 0.0003, 4, az);
+    ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.25, 0.2, 0.25)});
+    (void)space.integrate(s.scan);
+    explore::PpfRecogniserSetting rs;
+    rs.reject_ambiguous = true;
+    explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space, rs);
+    if (db.models().empty()) recogniser.learn("mug", prism_mug());
+    const explore::Recognition r = recogniser.recognise({}, s.cluster);
+    std::printf("ambiguity, azimuth %.2f: %s q_h %.3f (alternative %.3f) v_h %.3f ambiguous %d, %.1f mm\n", az,
+                r.model.c_str(), r.q_h, r.q_h_alternative, r.v_h, int(r.ambiguous),
+                1e3 * (r.pose.translation() - s.truth.translation()).norm());
+    CHECK(r.model == "mug");
+    if (az == hidden) {
+      CHECK(r.ambiguous);
+      CHECK_FALSE(r.accepted);
+      CHECK(r.q_h_alternative >= r.q_h - rs.ambiguity_margin);
+    } else {
+      CHECK_FALSE(r.ambiguous);
+      CHECK(r.accepted);
+      CHECK((r.pose.translation() - s.truth.translation()).norm() < 0.002);
+      CHECK(angle_of(r.pose, s.truth) < 2.0 * std::numbers::pi / 180.0);
+    }
+  }
+  explore::PpfRecogniserSetting bad;
+  bad.ambiguity_distance = 0.0;
+  CHECK_THROWS_WITH(bad.validate(), nbs_test::Contains("ambiguity_distance"));
+  bad = {};
+  bad.ambiguity_margin = -0.1;
+  CHECK_THROWS_WITH(bad.validate(), nbs_test::Contains("ambiguity_margin"));
+}

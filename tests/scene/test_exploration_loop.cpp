@@ -65,6 +65,7 @@ struct FakeRecogniser {
     Vec3 center;  ///< of the model's box, model frame
   };
   std::vector<Model> models;
+  bool ambiguous = false;  ///< report every match as ambiguous (right model, pose open) instead of accepted
   Recognition recognise(const scene::ObjectHypothesis& h, const Scan& cluster) {
     CHECK(cluster.size() == h.points.size());
     Recognition r;
@@ -75,7 +76,8 @@ struct FakeRecogniser {
         r.pose = Pose(Eigen::Translation3d(Vec3(h.centroid.x(), h.centroid.y(), 0.0) - Vec3(m.center.x(), m.center.y(), 0.0)));
         r.q_h = 0.9;
         r.v_h = 0.8;
-        r.accepted = true;
+        r.accepted = !ambiguous;
+        r.ambiguous = ambiguous;
       }
     return r;
   }
@@ -263,4 +265,20 @@ TEST_CASE("PpfRecogniser::learn: an invalid name is refused before the database 
   CHECK_THROWS_WITH(recogniser.learn("a b", box), nbs_test::Contains("model name 'a b' must be"));
   CHECK(db.models().empty());
   CHECK(recogniser.database().models().empty());
+}
+
+TEST_CASE("explore_scene: an ambiguous recognition is neither accepted nor modeled", "[scene][explore]") {
+  FakeSource source{frame_of({kA, kB})};
+  FakeRecogniser rec = knows_a();
+  rec.ambiguous = true;
+  FakeModeler modeler;
+  const ExplorationResult r = explore_scene(source, rec, modeler, ExplorationSetting{});
+  REQUIRE(r.steps.size() == 2);
+  REQUIRE(r.steps[0].clusters.size() == 2);
+  CHECK(r.steps[0].clusters[0].state == ClusterState::ambiguous);
+  CHECK(std::string(to_string(ClusterState::ambiguous)) == "ambiguous");
+  CHECK(r.steps[0].modeled_cluster == 1);  // B only: A is a known model whose pose this view leaves open
+  CHECK(modeler.budgets.size() == 1);
+  CHECK(r.steps[1].clusters[0].state == ClusterState::ambiguous);
+  CHECK(r.stop == ExplorationStop::explained);
 }

@@ -29,6 +29,7 @@
 #include "nbs/recognition/hypothesis_validation.hpp"
 #include "nbs/recognition/hypothesis_verification.hpp"
 #include "nbs/recognition/model_database.hpp"
+#include "nbs/recognition/pose_surface_error.hpp"
 #include "nbs/recognition/ppf_match.hpp"
 #include "nbs/recognition/refine_pose.hpp"
 #include "nbs/registration/scan_normals.hpp"
@@ -45,7 +46,13 @@ struct Recognition {
   Pose pose = Pose::Identity();    ///< T_WM (model frame → world)
   double q_h = 0.0;                ///< Eq. 3.10, in [0, 1]
   double v_h = 0.0;                ///< Eq. 3.11, in [0, 1]
-  bool accepted = false;           ///< q_h ≥ the recogniser's bound and v_h ≥ its bound (thesis: 0.66)
+  bool accepted = false;           ///< q_h ≥ the recogniser's bound and v_h ≥ its bound (thesis: 0.66), not ambiguous
+  /// The data fit another placement of the same model as well (PpfRecogniserSetting::reject_ambiguous): a
+  /// hypothesis that puts some of the surface elsewhere (largest nearest distance, ADD-S max, ≥ ambiguity_distance ×
+  /// the model's diagonal) is valid too and rates q_h ≥ q_h − ambiguity_margin. The model is likely right; its pose
+  /// is not determined by this view (a part that tells the poses apart is hidden).
+  bool ambiguous = false;
+  double q_h_alternative = 0.0;    ///< q_h of that other placement (0 if none was found)
 };
 
 /// The outcome of NBS modeling of one cluster.
@@ -84,6 +91,7 @@ enum class ClusterState : std::uint8_t {
   modeling,     ///< modeled in this step
   unexplained,  ///< not recognised, not modeled (yet)
   modeled,      ///< not recognised, but its centroid lies in the box of an object modeled before (not modeled again)
+  ambiguous,    ///< a database model fits, but the view leaves its pose open (Recognition::ambiguous); not modeled
 };
 
 [[nodiscard]] inline const char* to_string(ClusterState s) {
@@ -92,6 +100,7 @@ enum class ClusterState : std::uint8_t {
     case ClusterState::modeling: return "modeling";
     case ClusterState::unexplained: return "unexplained";
     case ClusterState::modeled: return "modeled";
+    case ClusterState::ambiguous: return "ambiguous";
   }
   return "?";
 }
@@ -207,6 +216,8 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       c.recognition = recogniser.recognise(h, explore_detail::sub_scan(frame, h.indices));
       if (c.recognition.accepted) {
         c.state = ClusterState::recognised;
+      } else if (c.recognition.ambiguous) {
+        c.state = ClusterState::ambiguous;
       } else {
         const bool seen = std::any_of(out.learned.begin(), out.learned.end(),
                                       [&](const LearnedModel& m) { return m.box.contains(h.centroid); });
@@ -275,6 +286,13 @@ struct PpfRecogniserSetting {
   double min_q_h = 0.3;                     ///< least q_h of an accepted hypothesis
   double min_v_h = 0.66;                    ///< least v_h (thesis: 0.66)
   unsigned threads = 1;                     ///< rendering threads (the result does not depend on them)
+  /// Refuse an accepted hypothesis when another placement of the same model explains the view as well (the mug
+  /// with its handle hidden): see Recognition::ambiguous. Off by default (the thesis has no such test).
+  bool reject_ambiguous = false;
+  double ambiguity_margin = 0.05;           ///< q_h difference within which two placements count as equally good, ≥ 0
+  /// ADD-S max (× the model's bounding-box diagonal) from which two placements differ, > 0. The max, not the mean:
+  /// a turned handle moves a few percent of the surface, which the mean dilutes below any useful bound.
+  double ambiguity_distance = 0.1;
 
   void validate() const {
     model.validate();
@@ -289,6 +307,8 @@ struct PpfRecogniserSetting {
                          min_q_h);
     nbs::detail::require(min_v_h >= 0.0 && min_v_h <= 1.0, "PpfRecogniserSetting.min_v_h must be in [0, 1], got ",
                          min_v_h);
+    nbs::detail::require_non_negative("PpfRecogniserSetting.ambiguity_margin", ambiguity_margin);
+    nbs::detail::require_positive("PpfRecogniserSetting.ambiguity_distance", ambiguity_distance);
   }
 };
 
@@ -323,13 +343,17 @@ public:
       if (n[i].squaredNorm() > 0.0) scene.points.push_back(cluster.points[i]), scene.normals.push_back(n[i]);
     if (scene.size() < 3) return best;
     const RangeImage image = range_image(sensor_, cluster.profile_poses.front(), cluster.points);
+    std::vector<std::pair<Pose, double>> best_rated;  // the best model's hypotheses with their q_h
+    std::size_t best_k = 0;
     for (std::size_t k = 0; k < entries_.size(); ++k) {
       const Entry& e = entries_[k];
       const std::vector<PoseHypothesis> hyps = match_ppf(db_->models()[k].features, scene, setting_.match);
+      std::vector<std::pair<Pose, double>> rated;
       double q_best = -1.0;
       Pose pose = Pose::Identity();
       for (const PoseHypothesis& h : hyps) {
         const double q = quality(e, h.pose, image);
+        rated.emplace_back(h.pose, q);
         if (q > q_best) q_best = q, pose = h.pose;
       }
       if (q_best < 0.0) continue;
@@ -340,13 +364,37 @@ public:
         best.model = db_->models()[k].metadata.name;
         best.pose = pose;
         best.q_h = q_best;
+        best_rated = std::move(rated);
+        best_k = k;
       }
     }
     if (best.model.empty()) return best;
-    const Entry& e = *std::find_if(entries_.begin(), entries_.end(), [&](const Entry& x) { return x.name == best.model; });
-    const std::size_t nv = std::min(setting_.validation_vertices, e.samples.size());
-    best.v_h = validate_hypothesis(*space_, std::span<const Vec3>(e.samples.points.data(), nv), best.pose).v_h();
+    const Entry& e = entries_[best_k];
+    best.v_h = v_h(e, best.pose);
     best.accepted = best.q_h >= setting_.min_q_h && best.v_h >= setting_.min_v_h;
+    if (best.accepted && setting_.reject_ambiguous) {
+      // The best rated hypothesis that places the surface elsewhere, refined as the best was, and valid too.
+      const double far = setting_.ambiguity_distance * e.box.extent().norm();
+      std::stable_sort(best_rated.begin(), best_rated.end(),
+                       [](const auto& a, const auto& b) { return a.second > b.second; });
+      for (const auto& [pose, q] : best_rated) {
+        if (e.metric->error(pose, best.pose).add_s_max_m < far) continue;
+        Pose alt = pose;
+        double q_alt = q;
+        const RefinedPose refined = refine_pose(e.samples, pose, cluster);
+        if (refined.icp.applied()) {
+          const double q_refined = quality(e, refined.pose, image);
+          if (q_refined >= q_alt && e.metric->error(refined.pose, best.pose).add_s_max_m >= far)
+            q_alt = q_refined, alt = refined.pose;
+        }
+        if (q_alt >= best.q_h - setting_.ambiguity_margin && v_h(e, alt) >= setting_.min_v_h) {
+          best.ambiguous = true;
+          best.q_h_alternative = q_alt;
+          best.accepted = false;
+        }
+        break;  // only the best other placement is tried
+      }
+    }
     return best;
   }
 
@@ -369,6 +417,7 @@ private:
     Aabb box;
     std::unique_ptr<const IndexedMesh> mesh;  ///< owned copy: the caster may borrow it (the database's may move)
     std::unique_ptr<Caster> caster;           ///< built from *mesh
+    std::unique_ptr<const SurfacePoseMetric> metric;  ///< ADD-S over the first validation_vertices samples (model frame)
   };
 
   [[nodiscard]] Entry make_entry(const IndexedMesh& mesh, std::string name) const {
@@ -379,7 +428,14 @@ private:
     for (const Vec3& v : mesh.vertices) e.box.extend(v);
     e.mesh = std::make_unique<const IndexedMesh>(mesh);
     e.caster = std::make_unique<Caster>(*e.mesh);
+    e.metric = std::make_unique<const SurfacePoseMetric>(std::span<const Vec3>(
+        e.samples.points.data(), std::min(setting_.validation_vertices, e.samples.size())));
     return e;
+  }
+
+  [[nodiscard]] double v_h(const Entry& e, const Pose& pose) const {
+    const std::size_t nv = std::min(setting_.validation_vertices, e.samples.size());
+    return validate_hypothesis(*space_, std::span<const Vec3>(e.samples.points.data(), nv), pose).v_h();
   }
 
   [[nodiscard]] double quality(const Entry& e, const Pose& pose, const RangeImage& image) const {
