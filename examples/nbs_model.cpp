@@ -5,7 +5,7 @@
 // stripe profiler, --sensor, default the DLR LSP) → integrate until the planner is done or n_abort scans were
 // taken. Prints one line per scan with the planner's estimates and the true c_a; writes mesh, voxel space,
 // candidates (per iteration, PLY line segments coloured red → green by utility, Fig. 4.16), PNG pictures and
-// report.json. Run `nbs_model --help`; the options shared with the other tools are in tools/common/options.hpp.
+// report.json. --color scans in colour (Sec. 5.3) and measures the model's mean colour error. Run `nbs_model --help`; the options shared with the other tools are in tools/common/options.hpp.
 
 // Planner headers first (see nbs/planner/detail/components.hpp).
 #include "nbs/planner/runtime_planner.hpp"
@@ -47,6 +47,7 @@
 #include "nbs/robot/transfer.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/metrics.hpp"
+#include "nbs/sim/surface_color.hpp"
 #include "nbs/space/export_ply.hpp"
 
 #include "common/data_dir.hpp"
@@ -70,6 +71,7 @@ struct Options {
   bool initial_only = false;
   bool thesis_mesh = false;
   bool viewer = false;
+  bool color = false;
   nbs::tools::PoseErrorOptions pose;  ///< --pose-error, --registration
   nbs::tools::RobotOptions robot;     ///< --robot, --robot-links
 };
@@ -88,6 +90,9 @@ void add_options(CLI::App& app, Options& o) {
                "no planning: scan along all 13 initial paths of Sec. 4.7.2 and write DIR/points.ply");
   app.add_flag("--viewer", o.viewer,
                "also write DIR/viewer/index.html: the session in 3D (mesh per scan, paths, candidates), offline");
+  app.add_flag("--color", o.color,
+               "scan in colour (Sec. 5.3): the mesh's vertex colours, or a seeded checker pattern if it has none, as "
+               "ground truth; coloured mesh.ply and pictures, DIR/truth.png, mean colour error in report.json");
   tools::add_config(app);
   app.footer("The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
              "DIR/view_NN.png, DIR/final.png and DIR/report.json.");
@@ -128,11 +133,12 @@ ArmPicture arm_picture(const R& robot, const nbs::JointVector& q, const std::vec
 
 /// Picture (800 × 600, compressed PNG) of `mesh` (may be empty) on `stage` with candidate segments coloured by
 /// utility; the chosen one (index `chosen`, if any) blue and wider; `arm` (if given) drawn as ArmPicture says.
-/// Without `arm` the picture is the one nbs_model wrote before --robot existed, byte for byte.
+/// Without `arm` the picture is the one nbs_model wrote before --robot existed, byte for byte. With `color` the mesh is
+/// drawn in its vertex colours (if it has them).
 void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const nbs::embree::Camera& cam,
                    const Stage& stage, const std::vector<nbs::LinearScanPath>& paths,
                    const std::vector<double>& utility, std::optional<std::size_t> chosen, unsigned threads,
-                   const ArmPicture* arm = nullptr) {
+                   const ArmPicture* arm = nullptr, bool color = false) {
   std::optional<nbs::embree::Scene> scene, arm_scene;
   if (!mesh.triangles.empty()) scene.emplace(mesh);
   if (arm != nullptr && !arm->arm.triangles.empty()) arm_scene.emplace(arm->arm);
@@ -151,7 +157,8 @@ void write_picture(const std::string& path, const nbs::IndexedMesh& mesh, const 
   rs.threads = threads;
   rs.pedestal = stage.pedestal;
   const std::array<nbs::embree::SceneLayer, 2> layers{
-      nbs::embree::SceneLayer{scene ? &*scene : nullptr, rs.surface},
+      nbs::embree::SceneLayer{scene ? &*scene : nullptr, rs.surface,
+                              color && scene && !mesh.colors.empty() ? &mesh : nullptr},
       nbs::embree::SceneLayer{arm_scene ? &*arm_scene : nullptr, {225, 150, 85}}};
   const nbs::embree::Image img = nbs::embree::render(layers, cam, segs, rs);
   nbs::png::write_png(path, img.width, img.height, img.rgb);
@@ -184,6 +191,45 @@ struct TruthTracker {
   }
   [[nodiscard]] double rms_m() const { return vertices ? std::sqrt(sum_sq_m2 / double(vertices)) : 0.0; }
 };
+
+/// --color (Sec. 5.3): the model's mean colour error (nbs::mean_color_error: per vertex, the colour distance to the true
+/// colour at the nearest surface point), split by nearness to a colour edge. A vertex is near an edge if the true colour
+/// at the surface points nearest to p ± r·e_k (k = x, y, z; r = `radius_m`) differs from the one nearest to p by more
+/// than 0.1 (color_distance): there the fused mean of the points around the vertex blends the two sides.
+struct ColorErrorSplit {
+  double mean = 0.0, near_edge = 0.0, rest = 0.0;  ///< mean colour error: all, near an edge, the others
+  std::size_t vertices = 0, near_edge_vertices = 0;
+};
+
+ColorErrorSplit color_error_split(const nbs::MeshDistance& truth, const nbs::IndexedMesh& model, double radius_m,
+                                  unsigned threads) {
+  ColorErrorSplit out;
+  out.vertices = model.vertices.size();
+  out.mean = nbs::mean_color_error(truth, model, threads);
+  std::vector<double> err(model.vertices.size());
+  std::vector<char> edge(model.vertices.size(), 0);
+  const auto true_color = [&](const nbs::Vec3& p) {
+    const nbs::MeshDistance::Closest c = truth.closest(p);
+    return nbs::surface_color(truth.mesh(), c.triangle, c.point);
+  };
+  nbs::detail::parallel_for(model.vertices.size(), threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const nbs::Vec3& p = model.vertices[i];
+      const nbs::Rgb c = true_color(p);
+      err[i] = nbs::color_distance(model.colors[i], c);
+      for (int k = 0; k < 3 && !edge[i]; ++k)
+        for (const double sgn : {-1.0, 1.0})
+          if (nbs::color_distance(true_color(p + sgn * radius_m * nbs::Vec3::Unit(k)), c) > 0.1) edge[i] = 1;
+    }
+  });
+  double sum_edge = 0.0, sum_rest = 0.0;
+  for (std::size_t i = 0; i < err.size(); ++i) (edge[i] ? sum_edge : sum_rest) += err[i];
+  out.near_edge_vertices = static_cast<std::size_t>(std::count(edge.begin(), edge.end(), 1));
+  const std::size_t rest = out.vertices - out.near_edge_vertices;
+  out.near_edge = out.near_edge_vertices ? sum_edge / double(out.near_edge_vertices) : 0.0;
+  out.rest = rest ? sum_rest / double(rest) : 0.0;
+  return out;
+}
 
 /// One row of the per-scan series of report.json.
 struct Row {
@@ -262,6 +308,7 @@ int run(const Options& opt) {
   try {
     mesh = load_mesh(opt.mesh);
     normalize_on_pedestal(mesh, opt.size_m, opt.up);
+    if (opt.color && mesh.colors.empty()) mesh.colors = procedural_colors(mesh, opt.seed);  // ground-truth colours
   } catch (const Error& e) {  // a bad --mesh is a usage error
     std::cerr << "nbs_model: --mesh: " << e.what() << "\n";
     return tools::kUsageExit;
@@ -390,7 +437,7 @@ int run(const Options& opt) {
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
       write_picture(file(opt, numbered("view", 1, "png")), IndexedMesh{}, cam, stage, {p0}, {1.0}, std::size_t{0},
-                    opt.threads, arm ? &*arm : nullptr);
+                    opt.threads, arm ? &*arm : nullptr, opt.color);
       t_render += seconds_since(t);
     }
     execute(p0, IterationStats{}, 1, 0.0, std::nullopt);
@@ -445,7 +492,7 @@ int run(const Options& opt) {
     if (opt.images) {
       const auto t = std::chrono::steady_clock::now();
       write_picture(file(opt, numbered("view", n, "png")), to_indexed_mesh(planner.mesh()), cam, stage, paths,
-                    utility, std::size_t{0}, opt.threads, arm ? &*arm : nullptr);
+                    utility, std::size_t{0}, opt.threads, arm ? &*arm : nullptr, opt.color);
       t_render += seconds_since(t);
     }
     if (transfer) {
@@ -465,10 +512,17 @@ int run(const Options& opt) {
   if (opt.images && !model.triangles.empty()) {
     const auto t = std::chrono::steady_clock::now();
     const Stage final_stage{stage.pedestal, stage.axes, {}};
-    write_picture(file(opt, "final.png"), model, embree::Camera::around(unknown, -1.0, 0.5, 0.5, 0.95), final_stage,
-                  {}, {}, std::nullopt, opt.threads);
+    const embree::Camera final_cam = embree::Camera::around(unknown, -1.0, 0.5, 0.5, 0.95);
+    write_picture(file(opt, "final.png"), model, final_cam, final_stage, {}, {}, std::nullopt, opt.threads, nullptr,
+                  opt.color);
+    if (opt.color)  // the ground truth in its colours, from the same camera
+      write_picture(file(opt, "truth.png"), mesh, final_cam, final_stage, {}, {}, std::nullopt, opt.threads, nullptr,
+                    true);
     t_render += seconds_since(t);
   }
+  std::optional<ColorErrorSplit> color;  // --color: the model's colour error, 1 voxel as the edge radius
+  if (opt.color && !model.colors.empty())
+    color = color_error_split(truth.distance(), model, planner.space().resolution_m(), opt.threads);
   const auto t_obs = std::chrono::steady_clock::now();
   const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp));
   const double obs_s = seconds_since(t_obs);
@@ -490,6 +544,10 @@ int run(const Options& opt) {
               obs.c_obs() > 0 ? 100.0 * fin.c_a / obs.c_obs() : 0.0);
   std::printf("e_rms   %.3f mm  (RMS distance of the mesh vertices to the true surface)\n", 1e3 * fin.e_m);
   std::printf("l_s     %.3f m  (summed scan path length)\n", fin.l_s);
+  if (color)
+    std::printf("colour  %.4f mean error over %zu vertices (%.1f %% within 1 voxel of a colour edge: %.4f; rest %.4f)\n",
+                color->mean, color->vertices, 100.0 * double(color->near_edge_vertices) / double(color->vertices),
+                color->near_edge, color->rest);
   std::printf("time    %.1f s total (planning %.1f s, pictures %.1f s, c_obs %.1f s)\n", runtime, t_nbs_sum, t_render,
               obs_s);
 
@@ -537,6 +595,13 @@ int run(const Options& opt) {
   fi["stop"] = std::string(stop_name(stop));
   fi["mesh_vertices"] = model.vertices.size();
   fi["mesh_triangles"] = model.triangles.size();
+  if (color) {
+    fi["mean_color_error"] = color->mean;
+    fi["color_vertices"] = color->vertices;
+    fi["color_near_edge_vertices"] = color->near_edge_vertices;
+    fi["mean_color_error_near_edge"] = color->near_edge;
+    fi["mean_color_error_rest"] = color->rest;
+  }
   fi["runtime_s"] = runtime;
   nbs::write_json(file(opt, "report.json"), js);
   if (viewer) tools::viewer::write_viewer(*viewer, opt.out, {unknown, &mesh, 20000, &planner.space(), 4'000'000, js});

@@ -227,3 +227,74 @@ TEST_CASE("renderer: layers show the nearest surface in its own albedo; a null l
   CHECK(arm_front > 100);  // the arm is seen, and partly hidden by the object
   CHECK(arm_hidden > 20);
 }
+
+TEST_CASE("renderer: a layer with vertex colours shades each hit's interpolated colour as a single-colour layer",
+          "[embree][render][color]") {
+  // Two quads in the plane y = 0 side by side (x < 0 red, x > 0 blue; no shared vertex), seen in perspective from
+  // (0, −1, 0.4): the plane x = 0 holds the eye, the target and up, so it splits the image at the middle column.
+  // Oracle: every pixel of the coloured picture equals the single-colour picture in red (left half) or blue (right
+  // half) — same Lambert × ambient shading, since the shading depends only on the hit.
+  const nbs::Rgb red{220, 40, 30}, blue{30, 60, 210};
+  nbs::IndexedMesh quads;
+  quads.vertices = {Vec3(-0.1, 0, -0.1), Vec3(0, 0, -0.1), Vec3(0, 0, 0.1),   Vec3(-0.1, 0, 0.1),
+                    Vec3(0, 0, -0.1),    Vec3(0.1, 0, -0.1), Vec3(0.1, 0, 0.1), Vec3(0, 0, 0.1)};
+  quads.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  quads.colors = {red, red, red, red, blue, blue, blue, blue};
+  const ne::Scene scene(quads);
+  ne::Camera c;
+  c.eye = Vec3(0, -1, 0.4);
+  ne::RenderSetting s;
+  s.width = 120;
+  s.height = 90;
+  const std::array<ne::SceneLayer, 1> colored{ne::SceneLayer{&scene, s.surface, &quads}};
+  const std::array<ne::SceneLayer, 1> in_red{ne::SceneLayer{&scene, red}}, in_blue{ne::SceneLayer{&scene, blue}};
+  const ne::Image img = ne::render(colored, c, {}, s), r = ne::render(in_red, c, {}, s),
+                  b = ne::render(in_blue, c, {}, s);
+  REQUIRE(img.hit_count() > 1000);
+  CHECK(img.depth == r.depth);
+  std::size_t hits_left = 0, hits_right = 0, mismatches = 0;
+  for (std::uint32_t j = 0; j < s.height; ++j)
+    for (std::uint32_t i = 0; i < s.width; ++i) {
+      const std::size_t k = std::size_t(j) * s.width + i;
+      if (!std::isfinite(img.depth[k])) continue;
+      const bool left = i < s.width / 2;
+      (left ? hits_left : hits_right) += 1;
+      const ne::Image& expect = left ? r : b;
+      mismatches += !std::equal(img.rgb.begin() + std::ptrdiff_t(3 * k), img.rgb.begin() + std::ptrdiff_t(3 * k + 3),
+                                expect.rgb.begin() + std::ptrdiff_t(3 * k));
+    }
+  CHECK(mismatches == 0);
+  CHECK(hits_left > 500);
+  CHECK(hits_right > 500);
+  // The shading is not trivial here (the plane is seen at an angle): the red picture is darker than the albedo.
+  const std::size_t centre = 3 * (std::size_t(s.height / 2) * s.width + s.width / 2 - 5);
+  REQUIRE(std::isfinite(r.depth[centre / 3]));
+  CHECK(int(r.rgb[centre]) < int(red[0]) - 5);
+
+  SECTION("barycentric interpolation inside a triangle, head-on") {
+    nbs::IndexedMesh tri;
+    tri.vertices = {Vec3(-0.1, 0, -0.1), Vec3(0.1, 0, -0.1), Vec3(0, 0, 0.1)};
+    tri.triangles = {{0, 1, 2}};
+    tri.colors = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}};
+    const ne::Scene one(tri);
+    ne::Camera o;
+    o.orthographic = true;
+    o.ortho_height_m = 0.3;
+    o.eye = Vec3(0, -1, 0);
+    ne::RenderSetting h;
+    h.width = h.height = 301;  // 1 mm per pixel; the centre pixel's ray passes through (0, 0, 0)
+    const std::array<ne::SceneLayer, 1> layer{ne::SceneLayer{&one, h.surface, &tri}};
+    const ne::Image t = ne::render(layer, o, {}, h);
+    // (0, 0, 0) = 0.25 a + 0.25 b + 0.5 c; head-on: shade 1, the pixel is the interpolated colour.
+    const std::size_t k = 3 * (std::size_t(150) * h.width + 150);
+    CHECK(int(t.rgb[k]) == Approx(64).margin(1));
+    CHECK(int(t.rgb[k + 1]) == Approx(64).margin(1));
+    CHECK(int(t.rgb[k + 2]) == Approx(128).margin(1));
+  }
+  SECTION("bad colours throw InvalidArgument naming them") {
+    nbs::IndexedMesh bad = quads;
+    bad.colors.pop_back();
+    const std::array<ne::SceneLayer, 1> layer{ne::SceneLayer{&scene, s.surface, &bad}};
+    CHECK_THROWS_WITH(ne::render(layer, c, {}, s), nbs_test::Contains("colours for 8 vertices"));
+  }
+}

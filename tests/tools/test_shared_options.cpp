@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "nbs_catch.hpp"
 #include "nbs_read_file.hpp"
 
@@ -104,6 +106,44 @@ TEST_CASE("nbs_model: a bad --robot exits 2 naming the path", "[tools][options][
     CHECK_THAT(r.err, nbs_test::Contains("--robot"));
     CHECK_THAT(r.err, nbs_test::Contains(path));
   }
+#else
+  WARN("nbs_model is not built (it needs Embree): nothing to check");
+#endif
+}
+
+TEST_CASE("nbs_model --color: coloured mesh.ply, mean colour error in report.json; without it no colour",
+          "[tools][options][color]") {
+#ifdef NBS_MODEL_EXE
+  // A small mesh without colours (procedural checker), one scan: ≈ 1 s. The two checker colours are ≥ 0.65 apart
+  // (color_distance), so a model coloured at random or black would be far above the bound; the split into vertices
+  // near a colour edge and the rest must average to the mean.
+  const fs::path dir = fs::temp_directory_path() / ("nbs_color_test_" + std::to_string(::getpid()));
+  const std::string common = "--mesh '" NBS_DATA_DIR "/meshes/test-objects/mushroom.obj' --size 0.06 --scans 1 "
+                             "--no-images --threads 1 --out '";
+  Result r = run(NBS_MODEL_EXE, "--color " + common + (dir / "c").string() + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, nbs_test::Contains("colour  "));
+  const auto js = nlohmann::json::parse(slurp(dir / "c" / "report.json"));
+  const auto& fi = js.at("final");
+  const double mean = fi.at("mean_color_error").get<double>();
+  const auto n = fi.at("color_vertices").get<std::size_t>(), near = fi.at("color_near_edge_vertices").get<std::size_t>();
+  CHECK(n == fi.at("mesh_vertices").get<std::size_t>());
+  CHECK(n > 100);
+  CHECK(mean > 0.0);
+  CHECK(mean < 0.15);
+  CHECK(near <= n);
+  CHECK(mean * double(n) == Approx(fi.at("mean_color_error_near_edge").get<double>() * double(near) +
+                                   fi.at("mean_color_error_rest").get<double>() * double(n - near)));
+  CHECK_THAT(slurp(dir / "c" / "mesh.ply"), nbs_test::Contains("property uchar red"));
+
+  r = run(NBS_MODEL_EXE, common + (dir / "plain").string() + "'");
+  REQUIRE(r.code == 0);
+  const auto plain = nlohmann::json::parse(slurp(dir / "plain" / "report.json"));
+  CHECK_FALSE(plain.at("final").contains("mean_color_error"));
+  CHECK(plain.at("final").at("mesh_vertices") == fi.at("mesh_vertices"));  // colour does not change the geometry
+  CHECK_THAT(slurp(dir / "plain" / "mesh.ply"), !nbs_test::Contains("red"));
+  fs::remove_all(dir);
 #else
   WARN("nbs_model is not built (it needs Embree): nothing to check");
 #endif

@@ -20,6 +20,8 @@
 #include "nbs/core/types.hpp"
 #include "nbs/embree/scene.hpp"
 #include "nbs/io/color.hpp"
+#include "nbs/mesh/indexed_mesh.hpp"
+#include "nbs/sim/surface_color.hpp"
 
 namespace nbs::embree {
 
@@ -151,18 +153,28 @@ struct Frame {  // camera basis: right, image-up, forward
 }
 
 /// One triangle scene of a picture with its albedo: the object model (RenderSetting::surface), a robot arm in its own
-/// colour. A null scene is skipped.
+/// colour. A null scene is skipped. With `colored` set (the mesh `scene` was built from, same triangle order, with one
+/// colour per vertex; Sec. 5.3), the albedo at a hit is surface_color(*colored, triangle, hit point) — barycentric
+/// interpolation of the vertex colours — shaded as a single-colour layer is; `albedo` is then unused.
 struct SceneLayer {
   const Scene* scene = nullptr;
   Rgb albedo{205, 205, 215};
+  const IndexedMesh* colored = nullptr;
 };
 
-/// Renders the nearest surface among `layers` (each in its albedo) seen by `cam`, then draws `segments` on top.
-/// Throws InvalidArgument for an invalid camera or setting.
+/// Renders the nearest surface among `layers` (each in its albedo or vertex colours) seen by `cam`, then draws
+/// `segments` on top. Throws InvalidArgument for an invalid camera or setting, or an invalid `colored` mesh (bad index,
+/// not one colour per vertex). A hit on a triangle the `colored` mesh does not have is painted in `albedo`.
 [[nodiscard]] inline Image render(std::span<const SceneLayer> layers, const Camera& cam,
                                   std::span<const Segment> segments = {}, const RenderSetting& s = {}) {
   cam.validate();
   s.validate();
+  for (const SceneLayer& layer : layers)
+    if (layer.colored != nullptr) {
+      layer.colored->validate();
+      nbs::detail::require(layer.colored->colors.size() == layer.colored->vertices.size(), "SceneLayer.colored: ",
+                           layer.colored->colors.size(), " colours for ", layer.colored->vertices.size(), " vertices");
+    }
   const render_detail::Frame fr = render_detail::frame(cam, s);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   Image img{s.width, s.height, std::vector<std::uint8_t>(3ull * s.width * s.height),
@@ -187,7 +199,10 @@ struct SceneLayer {
           if (const auto hit = layer.scene->first_hit(origin, dir, mesh_t.value_or(kInf));
               hit && (!mesh_t || hit->distance < *mesh_t)) {  // the nearest layer's surface
             mesh_t = hit->distance;
-            paint(layer.albedo, std::abs(hit->normal.dot(dir)), hit->distance);
+            const Rgb albedo = layer.colored == nullptr || hit->triangle >= layer.colored->triangles.size()
+                                   ? layer.albedo
+                                   : surface_color(*layer.colored, hit->triangle, origin + hit->distance * dir);
+            paint(albedo, std::abs(hit->normal.dot(dir)), hit->distance);
           }
       if (s.pedestal && dir.z() != 0.0) {
         const double t = (s.pedestal->center.z() - origin.z()) / dir.z();
