@@ -95,7 +95,7 @@ void add_options(CLI::App& app, Options& o) {
                "ground truth; coloured mesh.ply and pictures, DIR/truth.png, mean colour error in report.json");
   tools::add_config(app);
   app.footer("The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
-             "DIR/view_NN.png, DIR/final.png and DIR/report.json.");
+             "DIR/view_NN.png, DIR/final.png and DIR/report.json (with --color also DIR/truth.png).");
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
