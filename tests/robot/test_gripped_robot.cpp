@@ -121,17 +121,17 @@ TEST_CASE("GrippedRobot: collision shapes in O equal brute-force transforms, att
           "[robot][gripped]") {
   const test::PlanarArm arm;
   const GrippedRobot<test::PlanarArm> r(arm, kTBSPlanar, {"link3"}, {sensor_box()});
-  for (const JointVector& q : {JointVector(Eigen::Vector3d(0.3, -0.5, 0.9)), JointVector(Eigen::Vector3d(-1, 1.2, 0))}) {
+  for (const Eigen::Vector3d& q3 : {Eigen::Vector3d(0.3, -0.5, 0.9), Eigen::Vector3d(-1, 1.2, 0)}) {
+    const JointVector q = q3;
     const Eigen::Matrix4d M_OB = arm.fk(q).matrix().inverse();  // general 4 × 4 inverse
     const std::vector<PlacedShape> arm_shapes = arm.collision_shapes(q);
     const std::vector<PlacedShape> got = r.collision_shapes(q);
     REQUIRE(arm_shapes.size() == 3);
     REQUIRE(got.size() == 3);  // link1, link2, the sensor; link3 attached
-    for (int i = 0; i < 2; ++i) {
-      CHECK(got[static_cast<std::size_t>(i)].link == arm_shapes[static_cast<std::size_t>(i)].link);
-      CHECK((got[static_cast<std::size_t>(i)].T_WG.matrix() - M_OB * arm_shapes[static_cast<std::size_t>(i)].T_WG.matrix())
-                .norm() < 1e-12);
-      CHECK(got[static_cast<std::size_t>(i)].shape.radius == arm_shapes[static_cast<std::size_t>(i)].shape.radius);
+    for (std::size_t i = 0; i < 2; ++i) {
+      CHECK(got[i].link == arm_shapes[i].link);
+      CHECK((got[i].T_WG.matrix() - M_OB * arm_shapes[i].T_WG.matrix()).norm() < 1e-12);
+      CHECK(got[i].shape.radius == arm_shapes[i].shape.radius);
     }
     CHECK(got[2].link == "fixed sensor");
     CHECK((got[2].T_WG.matrix() - M_OB * sensor_box().T_WG.matrix()).norm() < 1e-12);
