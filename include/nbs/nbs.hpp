@@ -49,6 +49,7 @@
 
 #include "nbs/gripped/gripped_driver.hpp"
 #include "nbs/gripped/gripped_object.hpp"
+#include "nbs/gripped/gripped_robot.hpp"
 #include "nbs/gripped/gripped_simulation.hpp"
 
 #include "nbs/io/color.hpp"
@@ -93,6 +94,7 @@
 #include "nbs/recognition/point_pair_feature.hpp"
 #include "nbs/recognition/pose_clustering.hpp"
 #include "nbs/recognition/pose_fusion.hpp"
+#include "nbs/recognition/pose_surface_error.hpp"
 #include "nbs/recognition/ppf_match.hpp"
 #include "nbs/recognition/ppf_model.hpp"
 #include "nbs/recognition/ppf_model_io.hpp"

@@ -6,7 +6,8 @@
 /// frame T_WS(q), inverse kinematics near a seed configuration, the collision geometry of its links in link frames
 /// placed in the world for a given q, and the fixed hand-eye transform T_FS (flange → sensor, Eqs. 3.1–3.2):
 /// T_WS = T_WF · T_FS (`sensor_from_flange`, driver/concepts.hpp). Models: `FreeFlyingSensor` (robot/free_flying.hpp,
-/// every pose reachable, no links) and `nbs::kdl::UrdfRobot` (adapters/kdl, a URDF arm through KDL).
+/// every pose reachable, no links), `nbs::kdl::UrdfRobot` (adapters/kdl, a URDF arm through KDL) and
+/// `GrippedRobot<Arm>` (gripped/gripped_robot.hpp: an arm holding the object, the fixed sensor seen from the object).
 /// Frames and units: docs/architecture.md. Const members of every model may run concurrently.
 
 #include <Eigen/Core>
