@@ -2,7 +2,7 @@
 // Workspace modeling at room scale (Sec. 5.5; issue 22 items 1 and 5): the simulated workspace of
 // sim/workspace_scene.hpp in a 4 × 4 × 2 m box at 5 mm (256 M voxels in the box), an Asus Xtion frame per view, the
 // platform + pan-tilt candidates of the scene, blocks flushed to disk above a 1 GiB budget. Headlines:
-//   space.workspace_rss_gib     — peak resident memory of this process (ru_maxrss) after the run, GiB; the full-size
+//   space.workspace_rss_gib     — peak resident memory of this process (VmHWM) after the run, GiB; the full-size
 //                                 box, not a scaled figure (quick: the first 4 views; else until the stop, ≤ 30 views)
 //   workspace.t_nbv_median_s    — median wall time of one NBV planning step (all candidates, IG × Eq. 5.2, plan
 //                                 with every 16th pixel row and column, 2 threads)

@@ -5,7 +5,8 @@
 // voxel space), NBS modeling (method C_H, DLR laser stripe profiler) of each unexplained cluster with its box as
 // the unknown area, the new model into the database, re-recognition. Prints one line per step; writes per-object
 // meshes (PLY), a picture per step (top view, clusters coloured: recognised green, being modeled yellow, unexplained
-// red, modeled but not recognised blue; table grey) and report.json. Run `nbs_explore --help`.
+// red, modeled but not recognised blue, ambiguous — a known model whose pose the view leaves open, with
+// --reject-ambiguous — light green; table grey) and report.json. Run `nbs_explore --help`.
 
 // Planner headers first (see nbs/planner/detail/components.hpp).
 #include "nbs/planner/nbs_planner.hpp"
@@ -58,6 +59,7 @@ struct Options {
   int object_scans = 20;  ///< n_abort per object
   int steps = 6;
   unsigned threads = 0;
+  double reject_ambiguous = -1.0;  ///< q_h margin of PpfRecogniserSetting::reject_ambiguous; < 0: off
 };
 
 /// One object of --scene: a bundled mesh in its frame (+z up, metres) and whether it is in the database at start.
@@ -164,6 +166,7 @@ int run(const Options& opt) {
   explore::PpfRecogniserSetting rs;
   rs.seed = opt.seed;
   rs.threads = opt.threads;
+  if (opt.reject_ambiguous >= 0.0) rs.reject_ambiguous = true, rs.ambiguity_margin = opt.reject_ambiguous;
   for (const SceneObject& o : objects)
     if (o.known && !db.find(o.spec.name))
       db.add({o.spec.name, 0.0, {}, {"bundled mesh"}}, o.spec.mesh,
@@ -233,6 +236,8 @@ int run(const Options& opt) {
       o["model"] = c.recognition.model;
       o["q_h"] = c.recognition.q_h;
       o["v_h"] = c.recognition.v_h;
+      o["ambiguous"] = c.recognition.ambiguous;
+      o["q_h_alternative"] = c.recognition.q_h_alternative;
       o["box_min"] = {c.box.min.x(), c.box.min.y(), c.box.min.z()};
       o["box_max"] = {c.box.max.x(), c.box.max.y(), c.box.max.z()};
       std::string errors;
@@ -348,6 +353,10 @@ int main(int argc, char** argv) {
   app.add_option("--object-scans", opt.object_scans, "n_abort per modeled object")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--steps", opt.steps, "most overview steps")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--threads", opt.threads, "threads (0: all)")->capture_default_str();
+  app.add_option("--reject-ambiguous", opt.reject_ambiguous,
+                 "refuse a recognition another placement of the model explains within this q_h margin (e.g. 0.1; "
+                 "the cluster is then 'ambiguous', not modeled); off by default")
+      ->check(CLI::NonNegativeNumber);
   app.footer("Writes OUT/<model>.ply (learned models, world frame), OUT/step_NN.png and OUT/report.json.");
   CLI11_PARSE(app, argc, argv);
   try {

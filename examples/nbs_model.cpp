@@ -91,8 +91,9 @@ void add_options(CLI::App& app, Options& o) {
   app.add_flag("--viewer", o.viewer,
                "also write DIR/viewer/index.html: the session in 3D (mesh per scan, paths, candidates), offline");
   app.add_flag("--color", o.color,
-               "scan in colour (Sec. 5.3): the mesh's vertex colours, or a seeded checker pattern if it has none, as "
-               "ground truth; coloured mesh.ply and pictures, DIR/truth.png, mean colour error in report.json");
+               "colour (Sec. 5.3): a mesh without vertex colours gets a seeded checker pattern (a coloured mesh is "
+               "scanned in colour with or without this flag); coloured pictures, DIR/truth.png, mean colour error in "
+               "report.json");
   tools::add_config(app);
   app.footer("The object stands on a pedestal at z = 0. Writes DIR/mesh.ply, DIR/voxels.ply, DIR/candidates_NN.ply,\n"
              "DIR/view_NN.png, DIR/final.png and DIR/report.json (with --color also DIR/truth.png).");

@@ -96,4 +96,5 @@ TEST_CASE("SurfacePoseMetric bad input", "[recognition][pose_error][bad]") {
   Pose bad = Pose::Identity();
   bad.linear() *= 2.0;
   CHECK_THROWS_WITH((void)m.error(bad, Pose::Identity()), nbs_test::Contains("estimated pose"));
+  CHECK_THROWS_WITH((void)m.error(Pose::Identity(), bad), nbs_test::Contains("true pose"));
 }

@@ -18,7 +18,7 @@ struct ProcessMemory {
   std::uint64_t peak_bytes = 0;  ///< the peak so far (VmHWM; else ru_maxrss)
 };
 
-/// Reads /proc/self/status; falls back to getrusage's ru_maxrss (KiB on Linux) for the peak.
+/// Reads /proc/self/status; falls back to getrusage's ru_maxrss (KiB on Linux, bytes on macOS) for the peak.
 [[nodiscard]] inline ProcessMemory process_memory() {
   ProcessMemory m;
   std::ifstream in("/proc/self/status");
@@ -30,7 +30,11 @@ struct ProcessMemory {
   }
   if (m.peak_bytes == 0) {
     rusage u{};
-    if (getrusage(RUSAGE_SELF, &u) == 0) m.peak_bytes = static_cast<std::uint64_t>(u.ru_maxrss) * 1024;
+#if defined(__APPLE__)
+    if (getrusage(RUSAGE_SELF, &u) == 0) m.peak_bytes = static_cast<std::uint64_t>(u.ru_maxrss);  // bytes there
+#else
+    if (getrusage(RUSAGE_SELF, &u) == 0) m.peak_bytes = static_cast<std::uint64_t>(u.ru_maxrss) * 1024;  // KiB
+#endif
   }
   return m;
 }

@@ -52,7 +52,7 @@ struct Recognition {
   /// the model's diagonal) is valid too and rates q_h ≥ q_h − ambiguity_margin. The model is likely right; its pose
   /// is not determined by this view (a part that tells the poses apart is hidden).
   bool ambiguous = false;
-  double q_h_alternative = 0.0;    ///< q_h of that other placement (0 if none was found)
+  double q_h_alternative = 0.0;    ///< q_h of the other placement tried (0 if none was tried)
 };
 
 /// The outcome of NBS modeling of one cluster.
@@ -179,7 +179,9 @@ namespace explore_detail {
 }  // namespace explore_detail
 
 /// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise` of every cluster; the first
-/// cluster (in segmentation order) that is neither recognised nor inside the box of an object modeled before is
+/// cluster (in segmentation order) that is neither recognised, nor ambiguous (a known model whose pose the view
+/// leaves open: not modeled; a later overview may resolve it; it does not keep the loop from stopping as explained),
+/// nor inside the box of an object modeled before is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
 /// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
 /// model (explained), when the budget is spent before a cluster could be modeled, after `max_steps` steps, or when a
@@ -387,9 +389,11 @@ public:
           if (q_refined >= q_alt && e.metric->error(refined.pose, best.pose).add_s_max_m >= far)
             q_alt = q_refined, alt = refined.pose;
         }
-        if (q_alt >= best.q_h - setting_.ambiguity_margin && v_h(e, alt) >= setting_.min_v_h) {
+        best.q_h_alternative = q_alt;
+        // The alternative must be acceptable itself (q_h and v_h bounds) and rate as well within the margin.
+        if (q_alt >= setting_.min_q_h && q_alt >= best.q_h - setting_.ambiguity_margin &&
+            v_h(e, alt) >= setting_.min_v_h) {
           best.ambiguous = true;
-          best.q_h_alternative = q_alt;
           best.accepted = false;
         }
         break;  // only the best other placement is tried
@@ -417,7 +421,8 @@ private:
     Aabb box;
     std::unique_ptr<const IndexedMesh> mesh;  ///< owned copy: the caster may borrow it (the database's may move)
     std::unique_ptr<Caster> caster;           ///< built from *mesh
-    std::unique_ptr<const SurfacePoseMetric> metric;  ///< ADD-S over the first validation_vertices samples (model frame)
+    /// ADD-S over the first validation_vertices samples (model frame); only with reject_ambiguous, else null
+    std::unique_ptr<const SurfacePoseMetric> metric;
   };
 
   [[nodiscard]] Entry make_entry(const IndexedMesh& mesh, std::string name) const {
@@ -428,8 +433,9 @@ private:
     for (const Vec3& v : mesh.vertices) e.box.extend(v);
     e.mesh = std::make_unique<const IndexedMesh>(mesh);
     e.caster = std::make_unique<Caster>(*e.mesh);
-    e.metric = std::make_unique<const SurfacePoseMetric>(std::span<const Vec3>(
-        e.samples.points.data(), std::min(setting_.validation_vertices, e.samples.size())));
+    if (setting_.reject_ambiguous)
+      e.metric = std::make_unique<const SurfacePoseMetric>(std::span<const Vec3>(
+          e.samples.points.data(), std::min(setting_.validation_vertices, e.samples.size())));
     return e;
   }
 

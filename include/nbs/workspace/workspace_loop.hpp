@@ -190,8 +190,11 @@ WorkspaceResult run_workspace_modeling(Space& space, Source& source, const Works
   }
   if (!budget && setting.memory_limit_bytes > 0) {
     const std::uint64_t need = worst_case_memory_bytes(space);
-    detail::require(need <= setting.memory_limit_bytes, "run_workspace_modeling: the workspace box needs up to ",
-                    need, " bytes with every voxel allocated, more than WorkspaceSetting.memory_limit_bytes = ",
+    const bool saturated = need == std::numeric_limits<std::uint64_t>::max();
+    detail::require(!saturated && need <= setting.memory_limit_bytes,
+                    "run_workspace_modeling: the workspace box needs up to ",
+                    saturated ? std::string("more than 2^64") : std::to_string(need),
+                    " bytes with every voxel allocated, more than WorkspaceSetting.memory_limit_bytes = ",
                     setting.memory_limit_bytes, "; switch on block flushing with a memory budget "
                     "(WorkspaceSetting.flush.memory_budget_bytes), use coarser voxels or a smaller box");
   }
