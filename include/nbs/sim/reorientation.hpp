@@ -161,19 +161,22 @@ inline Vec3 down_direction(SupportFace f) {
 }  // namespace detail
 
 namespace detail {
-/// The placement lying on down-direction `down` (unit) with rotation R (R·down = −z), centre of mass `com`.
+/// The placement lying on down-direction `down` (unit) with rotation R (R·down = −z), centre of mass `com`; heights
+/// (R v).z if `rotate_all`, else −down · v.
 inline Placement evaluate_down(const IndexedMesh& mesh, const std::vector<char>& used, const Vec3& down, const Mat3& R,
-                               const Vec3& com, double band_m, double min_margin_m) {
+                               const Vec3& com, double band_m, double min_margin_m, bool rotate_all) {
   Placement p;
   p.down = down;
+  // Heights: (R v).z (the bounding-box rule, as first published) or −down · v (the same up to rounding, cheaper).
+  const auto height = [&](const Vec3& v) { return rotate_all ? (R * v).z() : -down.dot(v); };
   double z_min = std::numeric_limits<double>::infinity();
   for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v]) z_min = std::min(z_min, (R * mesh.vertices[v]).z());
+    if (used[v]) z_min = std::min(z_min, height(mesh.vertices[v]));
   std::vector<detail::Vec2> contact;
   for (std::size_t v = 0; v < used.size(); ++v) {
-    if (!used[v]) continue;
+    if (!used[v] || height(mesh.vertices[v]) > z_min + band_m) continue;
     const Vec3 q = R * mesh.vertices[v];
-    if (q.z() <= z_min + band_m) contact.emplace_back(q.x(), q.y());
+    contact.emplace_back(q.x(), q.y());
   }
   const Vec3 c3 = R * com;
   const detail::Vec2 c(c3.x(), c3.y());
@@ -232,7 +235,7 @@ inline SupportFace nearest_face(const Vec3& down) {
                      ? Mat3(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))
                      : Mat3(Eigen::Quaterniond::FromTwoVectors(down, -Vec3::UnitZ()).toRotationMatrix());
   Placement p = detail::evaluate_down(mesh, detail::used_vertices(mesh), down, R, com, setting.contact_tolerance_m,
-                                      setting.min_margin_m);
+                                      setting.min_margin_m, true);
   p.face = face;
   return p;
 }
@@ -258,7 +261,7 @@ inline SupportFace nearest_face(const Vec3& down) {
                        ? Mat3(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))
                        : Mat3(Eigen::Quaterniond::FromTwoVectors(down, -Vec3::UnitZ()).toRotationMatrix());
     Placement p = detail::evaluate_down(mesh, used, down, R, com, setting.contact_tolerance_m + 4.0 * hull.epsilon,
-                                        setting.min_margin_m);
+                                        setting.min_margin_m, false);
     p.face = detail::nearest_face(down);
     p.hull_facet = static_cast<int>(f);
     out.push_back(std::move(p));
