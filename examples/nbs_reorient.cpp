@@ -75,8 +75,8 @@ int main(int argc, char** argv) {
     const auto th0 = std::chrono::steady_clock::now();
     const Placement turn = reorientation_placement(upright, place);
     const auto th1 = std::chrono::steady_clock::now();
-    std::printf("object %s: rule %s, turned onto %s (hull facet %d, down %.3f %.3f %.3f; support %.1f cm^2, margin %.1f "
-                "mm, contact band %.1f mm; %.3f s)\n",
+    std::printf("object %s: rule %s, turned onto %s (hull facet %d, down %.3f %.3f %.3f; support %.1f cm^2, "
+                "margin %.1f mm, contact band %.1f mm; %.3f s)\n",
                 path.c_str(), std::string(to_string(place.rule)).c_str(), std::string(to_string(turn.face)).c_str(),
                 turn.hull_facet, turn.down.x(), turn.down.y(), turn.down.z(), 1e4 * turn.support_area_m2,
                 1e3 * turn.margin_m, 1e3 * place.contact_tolerance_m, std::chrono::duration<double>(th1 - th0).count());
@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
       const ConvexHull hull = convex_hull(upright.vertices);
       const auto tc1 = std::chrono::steady_clock::now();
       const std::vector<Placement> stable = stable_placements(upright, place);
-      std::printf("convex hull of %zu vertices: %zu vertices, %zu facets, %.3f s; %zu stable facets; centre of mass: %s\n",
+      std::printf("convex hull of %zu vertices: %zu vertices, %zu facets, %.3f s; %zu stable facets; "
+                  "centre of mass: %s\n",
                   upright.vertices.size(), hull.vertices.size(), hull.facets.size(),
                   std::chrono::duration<double>(tc1 - tc0).count(), stable.size(),
                   detail::is_closed_mesh(upright) ? "volume centroid (closed mesh)" : "surface centroid (open mesh)");

@@ -151,6 +151,17 @@ TEST_CASE("hull rule: the box's and the L shape's turns equal the bounding-box r
     CHECK(hull[i].T_turn.isApprox(bbox[i].T_turn, 1e-12));
   }
   CHECK(reorientation_placement(box).face == SupportFace::plus_z);
+  // The L block (two boxes, not closed by index: the surface centroid under both rules) turns the same way.
+  IndexedMesh l = test::box_mesh({-0.04, -0.025, 0.0}, {0.04, 0.025, 0.03});
+  const IndexedMesh block = test::box_mesh({0.01, -0.025, 0.03}, {0.04, 0.025, 0.06});
+  for (const auto& t : block.triangles) l.triangles.push_back({t[0] + 8u, t[1] + 8u, t[2] + 8u});
+  l.vertices.insert(l.vertices.end(), block.vertices.begin(), block.vertices.end());
+  const Placement lh = reorientation_placement(l);
+  const Placement lb = reorientation_placement(l, {.rule = PlacementRule::bounding_box});
+  CHECK(lh.face == SupportFace::minus_y);
+  CHECK(lb.face == SupportFace::minus_y);
+  CHECK(lh.T_turn.isApprox(lb.T_turn, 1e-12));
+  CHECK(lh.support_area_m2 == Approx(lb.support_area_m2));
 }
 
 TEST_CASE("hull rule: a regular tetrahedron rests on its four facets", "[sim][reorientation]") {

@@ -173,9 +173,6 @@ inline void qh_plane(QhFace& f, const std::vector<Vec3>& p) {
         horizon.push_back({faces[f].v[edge], faces[f].v[(edge + 1) % 3], g});
       }
     }
-    // A face first tested from one side and found visible later cannot happen (tested once, same answer), but a
-    // face marked visible after an edge into it was recorded would: keep only edges into non-visible faces.
-    std::erase_if(horizon, [&](const auto& h) { return visit_mark[h[2]] == iter; });
     // New faces (a, b, eye) on the horizon edges; link them to the faces across and to each other.
     new_faces.clear();
     for (const auto& h : horizon) {
@@ -258,8 +255,9 @@ inline void qh_plane(QhFace& f, const std::vector<Vec3>& p) {
     const Vec3 u = (std::abs(facet.normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(facet.normal).normalized();
     const Vec3 w = facet.normal.cross(u);  // (u, w, n) right-handed: ccw in (u, w) is ccw from outside
     const auto uv = [&](std::uint32_t i) { return std::pair<double, double>(u.dot(p[i]), w.dot(p[i])); };
-    std::ranges::sort(members, [&](std::uint32_t a, std::uint32_t b) { return uv(a) < uv(b) || (uv(a) == uv(b) && a < b); });
-    // Andrew's monotone chain; points within ε of a chain line are dropped (collinear).
+    std::ranges::sort(members,
+                      [&](std::uint32_t a, std::uint32_t b) { return uv(a) < uv(b) || (uv(a) == uv(b) && a < b); });
+    // Andrew's monotone chain; points within ε/2 of a chain line are dropped (collinear; a hull triangle is ≥ ε high).
     const auto turn = [&](std::uint32_t o, std::uint32_t a, std::uint32_t b) {
       const auto [ox, oy] = uv(o);
       const auto [ax, ay] = uv(a);
@@ -270,11 +268,11 @@ inline void qh_plane(QhFace& f, const std::vector<Vec3>& p) {
     std::vector<std::uint32_t> h(2 * members.size());
     std::size_t k = 0;
     for (std::size_t i = 0; i < members.size(); ++i) {
-      while (k >= 2 && turn(h[k - 2], members[i], h[k - 1]) >= -eps) --k;  // pop unless h[k-1] is a strict left turn
+      while (k >= 2 && turn(h[k - 2], members[i], h[k - 1]) >= -0.5 * eps) --k;  // pop unless a left turn
       h[k++] = members[i];
     }
     for (std::size_t i = members.size() - 1, t = k + 1; i-- > 0;) {
-      while (k >= t && turn(h[k - 2], members[i], h[k - 1]) >= -eps) --k;
+      while (k >= t && turn(h[k - 2], members[i], h[k - 1]) >= -0.5 * eps) --k;
       h[k++] = members[i];
     }
     h.resize(k - 1);

@@ -68,7 +68,8 @@ enum class PlacementRule : std::uint8_t { convex_hull, bounding_box };
 struct PlacementSetting {
   double contact_tolerance_m = 0.002;  ///< vertices this close to the lowest one touch the support plane, ≥ 0
   double min_margin_m = 0.0;           ///< the projected centre of mass must lie farther inside than this, ≥ 0
-  PlacementRule rule = PlacementRule::convex_hull;  ///< candidate faces of `stable_placements` / `reorientation_placement`
+  /// the candidate faces of `stable_placements` / `reorientation_placement`
+  PlacementRule rule = PlacementRule::convex_hull;
   /// Hull rule: a facet whose down-direction is within this angle of −z is the bottom the object stands on, not a
   /// turn (`reorientation_placement` skips it), radians in [0, π].
   double min_turn_rad = std::numbers::pi / 6;
@@ -332,7 +333,8 @@ inline SupportFace nearest_face(const Vec3& down) {
       why += detail::concat(" facet ", all[i].hull_facet, " (near ", to_string(all[i].face), "): margin ",
                             all[i].margin_m, " m, area ", all[i].support_area_m2, " m^2;");
   }
-  detail::require(false, "reorientation_placement (", to_string(setting.rule), "): no stable placement other than the bottom;", why);
+  detail::require(false, "reorientation_placement (", to_string(setting.rule),
+                  "): no stable placement other than the bottom;", why);
   return {};
 }
 
