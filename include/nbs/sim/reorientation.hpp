@@ -6,8 +6,9 @@
 ///
 /// Two rules for the candidate down-directions d (`PlacementSetting::rule`):
 /// - `convex_hull` (default): the outward normals of the facets of the mesh's convex hull (mesh/convex_hull.hpp) —
-///   a rigid object comes to rest on a hull facet. Centre of mass: the volume centroid if the mesh is closed (every
-///   edge used once in each direction), else the area-weighted centroid of its surface (`centre_of_mass`).
+///   a rigid object comes to rest on a hull facet. Centre of mass (`centre_of_mass`): the volume centroid if the mesh
+///   is closed (by vertex index: every directed edge matched by exactly one reverse one), else the area-weighted
+///   centroid of its surface.
 /// - `bounding_box` (the first rule, kept so old results are reproducible): ±x, ±y, ±z of the upright world frame (the
 ///   faces of the mesh's axis-aligned bounding box); centre of mass always the surface centroid.
 /// For down-direction d the object is rotated so that d points to −z; its contact set is the vertices within
@@ -86,7 +87,7 @@ struct PlacementSetting {
 struct Placement {
   /// The bounding-box face; hull rule: the one whose direction is nearest to `down` (ties: x before y before z).
   SupportFace face = SupportFace::minus_z;
-  int hull_facet = -1;  ///< hull rule: the index of the facet in `convex_hull(vertices)`; −1: bounding-box rule
+  int hull_facet = -1;  ///< hull rule: facet index in `convex_hull` of the used vertices; −1: box rule
   Vec3 down = -Vec3::UnitZ();  ///< the upright-frame direction that points down (−z) after the turn, unit
   /// T_turn: upright world → reoriented world. The rotation takes `down` to −z (the shortest rotation; π about x for
   /// down = +z); the translation puts the lowest vertex on z = 0 and keeps the centre of mass's x, y.
