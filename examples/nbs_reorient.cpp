@@ -6,7 +6,9 @@
 // alignment error against the known turn.
 //
 //   nbs_reorient [mesh.obj|ply|stl] [scans per session = 8] [seed = 1] [contact tolerance m = 0.002] [up = y]
-//   (the mesh is scaled to 0.16 m on the pedestal; up: x, y or z, the mesh file's up axis)
+//                [rule = hull]
+//   (the mesh is scaled to 0.16 m on the pedestal; up: x, y or z, the mesh file's up axis; rule: hull (the convex
+//   hull's facets) or box (the upright bounding box's faces, the first rule))
 
 #include <chrono>
 #include <cstdio>
@@ -61,12 +63,34 @@ int main(int argc, char** argv) {
   PlacementSetting place;
   if (argc > 4) place.contact_tolerance_m = std::atof(argv[4]);
   const std::string up = argc > 5 ? argv[5] : "y";
+  const std::string rule = argc > 6 ? argv[6] : "hull";
+  if (rule != "hull" && rule != "box") {
+    std::fprintf(stderr, "nbs_reorient: rule '%s' must be hull or box\n", rule.c_str());
+    return 2;
+  }
+  place.rule = rule == "box" ? PlacementRule::bounding_box : PlacementRule::convex_hull;
   try {
     IndexedMesh upright = load_mesh(path);
     normalize_on_pedestal(upright, 0.16, up == "x" ? UpAxis::x : up == "z" ? UpAxis::z : UpAxis::y);
+    const auto th0 = std::chrono::steady_clock::now();
     const Placement turn = reorientation_placement(upright, place);
-    std::printf("object %s: turned onto %s (support %.1f cm^2, margin %.1f mm, contact band %.1f mm)\n", path.c_str(),
-                std::string(to_string(turn.face)).c_str(), 1e4 * turn.support_area_m2, 1e3 * turn.margin_m, 1e3 * place.contact_tolerance_m);
+    const auto th1 = std::chrono::steady_clock::now();
+    std::printf("object %s: rule %s, turned onto %s (hull facet %d, down %.3f %.3f %.3f; support %.1f cm^2, "
+                "margin %.1f mm, contact band %.1f mm; %.3f s)\n",
+                path.c_str(), std::string(to_string(place.rule)).c_str(), std::string(to_string(turn.face)).c_str(),
+                turn.hull_facet, turn.down.x(), turn.down.y(), turn.down.z(), 1e4 * turn.support_area_m2,
+                1e3 * turn.margin_m, 1e3 * place.contact_tolerance_m, std::chrono::duration<double>(th1 - th0).count());
+    if (place.rule == PlacementRule::convex_hull) {
+      const auto tc0 = std::chrono::steady_clock::now();
+      const ConvexHull hull = convex_hull(upright.vertices);
+      const auto tc1 = std::chrono::steady_clock::now();
+      const std::vector<Placement> stable = stable_placements(upright, place);
+      std::printf("convex hull of %zu vertices: %zu vertices, %zu facets, %.3f s; %zu stable facets; "
+                  "centre of mass: %s\n",
+                  upright.vertices.size(), hull.vertices.size(), hull.facets.size(),
+                  std::chrono::duration<double>(tc1 - tc0).count(), stable.size(),
+                  detail::is_closed_mesh(upright) ? "volume centroid (closed mesh)" : "surface centroid (open mesh)");
+    }
     const IndexedMesh turned = transformed_mesh(upright, turn.T_turn);
     const auto t0 = std::chrono::steady_clock::now();
     std::printf("session 1 (upright)\n");

@@ -71,6 +71,7 @@
 #include "nbs/io/write_ply.hpp"
 
 #include "nbs/mesh/boundaries.hpp"
+#include "nbs/mesh/convex_hull.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/mesh/density.hpp"
 #include "nbs/mesh/holes.hpp"

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Stable placements for the second session (Sec. 5.3): a box lies stably on each of its six faces, a leaning prism
-// and a turned-over L shape tip over, a cylinder lies on its side.
+// and a turned-over L shape tip over, a cylinder lies on its side (both rules); a regular tetrahedron rests on its
+// four facets, a hull facet beyond which the centre of mass lies is unstable (hull rule).
 
 #include "nbs_catch.hpp"
 
@@ -125,7 +126,86 @@ TEST_CASE("a cylinder lies on its side; a leaning prism and an upside-down L tip
     const IndexedMesh box = test::box_mesh({0, 0, 0}, {0.1, 0.1, 0.1});
     CHECK_THROWS_AS(evaluate_placement(box, SupportFace::plus_x, {.contact_tolerance_m = -1.0}), InvalidArgument);
     CHECK_THROWS_AS(evaluate_placement(IndexedMesh{}, SupportFace::plus_x), InvalidArgument);
-    // A sphere touches the plane in one vertex whichever way it is turned.
-    CHECK_THROWS_AS(reorientation_placement(test::uv_sphere({0, 0, 0.05}, 0.05, 8, 16)), InvalidArgument);
+    // A sphere touches the box's faces in one vertex whichever way it is turned (bounding-box rule); on its hull it
+    // rests on a facet (the polygonal sphere's facets are planar quads around the foot of the centre).
+    const IndexedMesh sphere = test::uv_sphere({0, 0, 0.05}, 0.05, 8, 16);
+    CHECK_THROWS_AS(reorientation_placement(sphere, {.rule = PlacementRule::bounding_box}), InvalidArgument);
+    CHECK(reorientation_placement(sphere).stable);
+    CHECK_THROWS_AS(reorientation_placement(box, {.min_turn_rad = -0.1}), InvalidArgument);
+  }
+}
+
+TEST_CASE("hull rule: the box's and the L shape's turns equal the bounding-box rule's", "[sim][reorientation]") {
+  const IndexedMesh box = test::box_mesh({-0.05, -0.03, 0.0}, {0.05, 0.03, 0.04});
+  const std::vector<Placement> hull = stable_placements(box);
+  const std::vector<Placement> bbox = stable_placements(box, {.rule = PlacementRule::bounding_box});
+  REQUIRE(hull.size() == 6);
+  REQUIRE(bbox.size() == 6);
+  for (std::size_t i = 0; i < 6; ++i) {
+    INFO(to_string(bbox[i].face));
+    CHECK(hull[i].face == bbox[i].face);
+    CHECK(hull[i].hull_facet >= 0);
+    CHECK(bbox[i].hull_facet == -1);
+    CHECK(hull[i].support_area_m2 == Approx(bbox[i].support_area_m2));
+    CHECK(hull[i].margin_m == Approx(bbox[i].margin_m));
+    CHECK(hull[i].T_turn.isApprox(bbox[i].T_turn, 1e-12));
+  }
+  CHECK(reorientation_placement(box).face == SupportFace::plus_z);
+  // The L block (two boxes, not closed by index: the surface centroid under both rules) turns the same way.
+  IndexedMesh l = test::box_mesh({-0.04, -0.025, 0.0}, {0.04, 0.025, 0.03});
+  const IndexedMesh block = test::box_mesh({0.01, -0.025, 0.03}, {0.04, 0.025, 0.06});
+  for (const auto& t : block.triangles) l.triangles.push_back({t[0] + 8u, t[1] + 8u, t[2] + 8u});
+  l.vertices.insert(l.vertices.end(), block.vertices.begin(), block.vertices.end());
+  const Placement lh = reorientation_placement(l);
+  const Placement lb = reorientation_placement(l, {.rule = PlacementRule::bounding_box});
+  CHECK(lh.face == SupportFace::minus_y);
+  CHECK(lb.face == SupportFace::minus_y);
+  CHECK(lh.T_turn.isApprox(lb.T_turn, 1e-12));
+  CHECK(lh.support_area_m2 == Approx(lb.support_area_m2));
+}
+
+TEST_CASE("hull rule: a regular tetrahedron rests on its four facets", "[sim][reorientation]") {
+  IndexedMesh t;
+  const double s = 0.05;
+  t.vertices = {s * Vec3(1, 1, 1), s * Vec3(1, -1, -1), s * Vec3(-1, 1, -1), s * Vec3(-1, -1, 1)};
+  t.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};  // outward, closed
+  for (auto& v : t.vertices) v.z() += s;
+  CHECK(centre_of_mass(t).isApprox(Vec3(0, 0, s), 1e-12));
+  const std::vector<Placement> all = stable_placements(t);
+  REQUIRE(all.size() == 4);
+  const double edge = 2 * std::sqrt(2.0) * s;
+  for (const Placement& p : all) {
+    CHECK(p.support_area_m2 == Approx(std::sqrt(3.0) / 4 * edge * edge));
+    CHECK(p.margin_m == Approx(edge / (2 * std::sqrt(3.0))));  // the inradius: the centroid projects to the centre
+    const IndexedMesh turned = transformed_mesh(t, p.T_turn);
+    int on_table = 0;
+    for (const Vec3& v : turned.vertices) on_table += std::abs(v.z()) < 1e-12 ? 1 : 0;
+    CHECK(on_table == 3);
+    CHECK(turned.bounds().min.z() == Approx(0.0).margin(1e-12));
+    CHECK(std::abs(p.T_turn.linear().determinant() - 1.0) < 1e-12);
+  }
+}
+
+TEST_CASE("hull rule: the leaning prism tips over its base and lies on a slanted side", "[sim][reorientation]") {
+  const IndexedMesh prism = leaning_prism(0.02, 0.2, 0.05);
+  const std::vector<Placement> all = hull_placements(prism);
+  REQUIRE(all.size() == 6);  // a parallelepiped
+  int flat = 0;
+  for (const Placement& p : all) {
+    if (std::abs(p.down.z()) < 0.999) continue;
+    ++flat;  // base and top: the centre of mass (x = 3.5 cm) is 1.5 cm beyond the 2 cm base
+    CHECK_FALSE(p.stable);
+    CHECK(p.margin_m == Approx(-0.015).margin(1e-9));
+  }
+  CHECK(flat == 2);
+  const Placement turn = reorientation_placement(prism);
+  CHECK(turn.face == SupportFace::minus_x);  // the slanted sides (0.02 × 0.206 m) are larger than the ±y ones
+  CHECK(turn.support_area_m2 == Approx(0.02 * std::hypot(0.2, 0.05)));
+  CHECK(turn.margin_m > 0.0);
+  CHECK(transformed_mesh(prism, turn.T_turn).bounds().min.z() == Approx(0.0).margin(1e-12));
+  SECTION("flat mesh has no hull") {
+    IndexedMesh flat_mesh;
+    test::add_quad(flat_mesh, {0, 0, 0}, {0.1, 0, 0}, {0.1, 0.1, 0}, {0, 0.1, 0});
+    CHECK_THROWS_WITH(hull_placements(flat_mesh), Catch::Contains("coplanar"));
   }
 }
