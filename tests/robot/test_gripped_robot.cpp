@@ -28,7 +28,7 @@ Pose rigid(const Mat3& R, const Vec3& t) {
   return T;
 }
 Mat3 rot_y(double a) { return Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix(); }
-const Mat3 kRz90 = (Mat3() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished();
+const Mat3 kGripRz90 = (Mat3() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished();
 
 // The planar arm reaches up to 0.8 m from B's origin in the x-z plane; the sensor 1.3 m up, looking down (R_y(π)).
 const Pose kTBSPlanar = rigid(rot_y(std::numbers::pi), Vec3(0, 0, 1.3));
@@ -46,21 +46,21 @@ PlacedShape sensor_box() {
 TEST_CASE("GrippedRobot: fk and ik are Eq. 5.1 (hand-computed, free-flying arm)", "[robot][gripped]") {
   // T_BS: R_z(90°), (0.6, 0, 0.8). Arm at q = (0.1, 0.2, 0.3, 0, 0, 0): T_BO = I, (0.1, 0.2, 0.3).
   // T_OS = T_BO⁻¹ · T_BS = R_z(90°), (0.5, −0.2, 0.5).
-  const GrippedRobot<FreeFlyingSensor> r(FreeFlyingSensor{}, rigid(kRz90, Vec3(0.6, 0, 0.8)));
+  const GrippedRobot<FreeFlyingSensor> r(FreeFlyingSensor{}, rigid(kGripRz90, Vec3(0.6, 0, 0.8)));
   JointVector q(6);
   q << 0.1, 0.2, 0.3, 0, 0, 0;
   const Pose T_OS = r.fk(q);
   CHECK((T_OS.translation() - Vec3(0.5, -0.2, 0.5)).norm() < 1e-12);
-  CHECK((T_OS.linear() - kRz90).norm() < 1e-12);
-  CHECK(r.hand_eye().matrix() == rigid(kRz90, Vec3(0.6, 0, 0.8)).matrix());  // fk = T_OB · hand_eye
+  CHECK((T_OS.linear() - kGripRz90).norm() < 1e-12);
+  CHECK(r.hand_eye().matrix() == rigid(kGripRz90, Vec3(0.6, 0, 0.8)).matrix());  // fk = T_OB · hand_eye
   CHECK((r.object_pose(q).inverse(Eigen::Isometry) * r.hand_eye()).isApprox(T_OS, 1e-12));
 
   // ik of a sensor pose in O: T_OS' = R_z(90°), (0, 0, 0.5) → T_BO = T_BS · T_OS'⁻¹ = I, (0.6, 0, 0.3).
-  const auto s = r.ik(rigid(kRz90, Vec3(0, 0, 0.5)), JointVector::Zero(6));
+  const auto s = r.ik(rigid(kGripRz90, Vec3(0, 0, 0.5)), JointVector::Zero(6));
   REQUIRE(s);
   CHECK((s->head<3>() - Vec3(0.6, 0, 0.3)).norm() < 1e-12);
   CHECK(s->tail<3>().norm() < 1e-12);
-  CHECK(poses_agree(r.fk(*s), rigid(kRz90, Vec3(0, 0, 0.5)), 1e-12, 1e-12));
+  CHECK(poses_agree(r.fk(*s), rigid(kGripRz90, Vec3(0, 0, 0.5)), 1e-12, 1e-12));
 }
 
 TEST_CASE("GrippedRobot: an object pose beyond the arm's reach is rejected, one within is solved", "[robot][gripped]") {
@@ -88,7 +88,7 @@ TEST_CASE("GrippedRobot: an object pose beyond the arm's reach is rejected, one 
 }
 
 TEST_CASE("GrippedRobot: a linear sensor path in O is the object's inverse linear path in B", "[robot][gripped]") {
-  const Pose T_BS = rigid(kRz90, Vec3(0.6, 0, 0.8));
+  const Pose T_BS = rigid(kGripRz90, Vec3(0.6, 0, 0.8));
   const GrippedRobot<FreeFlyingSensor> r(FreeFlyingSensor{}, T_BS);
   const Pose start = rigid(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix(), Vec3(0.1, 0, 0.3));
   const LinearScanPath path(Viewpoint(start), Vec3(-0.05, 0.1, 0.3));
@@ -110,7 +110,7 @@ TEST_CASE("GrippedRobot passes the Robot conformance suite (free-flying and plan
   conformance::RobotCase c;
   c.samples = 30;
   const auto ff = conformance::check_robot_conformance(
-      GrippedRobot<FreeFlyingSensor>(FreeFlyingSensor{}, rigid(kRz90, Vec3(0.6, 0, 0.8))), c);
+      GrippedRobot<FreeFlyingSensor>(FreeFlyingSensor{}, rigid(kGripRz90, Vec3(0.6, 0, 0.8))), c);
   CHECK(ff.ik_solved == ff.ik_tried);
   const auto pl = conformance::check_robot_conformance(
       GrippedRobot<test::PlanarArm>(test::PlanarArm{}, kTBSPlanar, {"link3"}, {sensor_box()}), c);
