@@ -106,3 +106,17 @@ TEST_CASE("convex hull: degenerate input throws naming the problem", "[sim][conv
   CHECK(message({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, nan}}).find("point 3 is not finite") != std::string::npos);
   CHECK(message({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}) == "no error");
 }
+
+TEST_CASE("convex hull: a surface that is not closed is refused (the output check)", "[sim][convex_hull]") {
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  const ConvexHull good = convex_hull(corners);  // six quads
+  REQUIRE(good.facets[0].polygon.size() == 4);
+  CHECK_NOTHROW(detail::require_closed_hull(good, 1e-9));
+  ConvexHull dropped = good;  // a corner dropped from one facet only: its two edges have no reverse
+  dropped.facets[0].polygon.pop_back();
+  CHECK_THROWS_WITH(detail::require_closed_hull(dropped, 1e-9), nbs_test::Contains("not a closed convex polytope"));
+  ConvexHull sliver = good;
+  sliver.facets[0].polygon.resize(2);
+  CHECK_THROWS_WITH(detail::require_closed_hull(sliver, 1e-9), nbs_test::Contains("has 2 vertices"));
+}

@@ -130,7 +130,10 @@ TEST_CASE("a cylinder lies on its side; a leaning prism and an upside-down L tip
     // rests on a facet (the polygonal sphere's facets are planar quads around the foot of the centre).
     const IndexedMesh sphere = test::uv_sphere({0, 0, 0.05}, 0.05, 8, 16);
     CHECK_THROWS_AS(reorientation_placement(sphere, {.rule = PlacementRule::bounding_box}), InvalidArgument);
-    CHECK(reorientation_placement(sphere).stable);
+    const Placement on_facet = reorientation_placement(sphere);
+    CHECK(on_facet.hull_facet >= 0);
+    CHECK(on_facet.support_area_m2 > 0.0);
+    CHECK(on_facet.margin_m > 0.0);
     CHECK_THROWS_AS(reorientation_placement(box, {.min_turn_rad = -0.1}), InvalidArgument);
   }
 }
@@ -208,4 +211,21 @@ TEST_CASE("hull rule: the leaning prism tips over its base and lies on a slanted
     test::add_quad(flat_mesh, {0, 0, 0}, {0.1, 0, 0}, {0.1, 0.1, 0}, {0, 0.1, 0});
     CHECK_THROWS_WITH(hull_placements(flat_mesh), Catch::Contains("coplanar"));
   }
+}
+
+TEST_CASE("hull rule: a top facet tilted 2 urad from +z still gives a rigid turn", "[sim][reorientation]") {
+  // Eigen's FromTwoVectors(d, −z) for d within a few µrad of +z returns a quaternion off unit length by ≈ 1e-5.
+  IndexedMesh box = test::box_mesh(Vec3(-0.04, -0.03, 0.0), Vec3(0.04, 0.03, 0.05));
+  for (Vec3& v : box.vertices)
+    if (v.z() > 0.0) v.z() += 2e-6 * v.x();  // the top tilted by 2 µrad about y
+  bool near_up = false;
+  for (const Placement& p : hull_placements(box)) {
+    INFO("down " << p.down.transpose());
+    const Mat3 R = p.T_turn.linear();
+    CHECK((R.transpose() * R - Mat3::Identity()).norm() < 1e-12);
+    CHECK((R * p.down + Vec3::UnitZ()).norm() < 1e-12);
+    CHECK_NOTHROW(validate_pose(p.T_turn, "turn"));
+    near_up = near_up || (p.down.z() > 0.999999 && p.down.z() < 1.0);
+  }
+  CHECK(near_up);
 }

@@ -21,7 +21,9 @@
 /// as colliding with the unknown object (model them as GrippedSetup::fingers instead) — plus the fixed sensor's body
 /// (`sensor_body`, shapes in B, link names as given) mapped into O the same way. Check them against the voxel space
 /// in O with LinkCollisionSetting::check_table = false: the table z = 0 of O is the palm plane, not a table (the
-/// real table in B is not modeled here). Thread-safety: const members may run concurrently if the arm's may.
+/// real table in B is not modeled here). Not checked at all: the arm against the fixed sensor in B (both fixed in B,
+/// so their mutual collision is a question of B, not of the voxel space in O). Thread-safety: const members may run
+/// concurrently if the arm's may.
 
 #include <algorithm>
 #include <optional>
@@ -43,7 +45,7 @@ public:
   /// world B; `attached` names of arm links fixed to the object (left out of collision_shapes); `sensor_body` the
   /// fixed sensor's (or its mount's) shapes in B (PlacedShape::T_WG read as T_BG). Throws InvalidArgument (naming
   /// the value) for a non-rigid T_BS, an attached name the arm has no collision shape for (at q = 0 clamped into
-  /// the limits), or a sensor-body shape that is unnamed, not finite or not rigidly placed.
+  /// the limits), or a sensor-body shape that is unnamed, not finite, an unloaded mesh or not rigidly placed.
   GrippedRobot(Arm arm, const Pose& T_BS, std::vector<std::string> attached = {},
                std::vector<PlacedShape> sensor_body = {})
       : arm_(std::move(arm)), T_BS_(T_BS), attached_(std::move(attached)), sensor_body_(std::move(sensor_body)) {
@@ -57,6 +59,8 @@ public:
     for (const PlacedShape& s : sensor_body_) {
       detail::require(!s.link.empty(), "GrippedRobot sensor_body: a shape without a name");
       detail::validate_shape(s);
+      detail::require(s.shape.kind != LinkShape::Kind::mesh || s.shape.mesh != nullptr, "GrippedRobot sensor_body '",
+                      s.link, "' is a mesh that is not loaded");
       validate_pose(s.T_WG, detail::concat("GrippedRobot sensor_body '", s.link, "' pose T_BG"));
     }
   }

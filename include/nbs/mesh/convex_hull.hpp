@@ -58,6 +58,30 @@ inline void qh_plane(QhFace& f, const std::vector<Vec3>& p) {
   f.d = f.n.dot(p[f.v[0]]);
 }
 
+/// Checks that `hull` is a closed polytope surface: every facet has ≥ 3 vertices, every directed polygon edge is met
+/// by exactly one reverse edge of another facet, and V − E + F = 2. Near-coplanar input can break quickhull's
+/// horizon or the facet merge silently; this turns that into InvalidArgument naming ε.
+inline void require_closed_hull(const ConvexHull& hull, double relative_epsilon) {
+  std::vector<std::uint64_t> edges;
+  for (std::size_t f = 0; f < hull.facets.size(); ++f) {
+    const std::vector<std::uint32_t>& poly = hull.facets[f].polygon;
+    require(poly.size() >= 3, "convex_hull: facet ", f, " has ", poly.size(), " vertices (numerically degenerate "
+            "input at relative_epsilon ", relative_epsilon, ")");
+    for (std::size_t i = 0; i < poly.size(); ++i)
+      edges.push_back(std::uint64_t{poly[i]} << 32 | poly[(i + 1) % poly.size()]);
+  }
+  std::ranges::sort(edges);
+  const bool unique = std::adjacent_find(edges.begin(), edges.end()) == edges.end();
+  bool matched = unique;
+  for (std::size_t i = 0; matched && i < edges.size(); ++i)
+    matched = std::ranges::binary_search(edges, (edges[i] & 0xffffffffu) << 32 | edges[i] >> 32);
+  const auto v = static_cast<long long>(hull.vertices.size()), e = static_cast<long long>(edges.size() / 2),
+             f = static_cast<long long>(hull.facets.size());
+  require(matched && v - e + f == 2, "convex_hull: the result is not a closed convex polytope (edges ",
+          matched ? "matched" : "not matched", ", V - E + F = ", v - e + f, ") at relative_epsilon ", relative_epsilon,
+          ": numerically degenerate input; try a larger relative_epsilon");
+}
+
 }  // namespace detail
 
 /// The convex hull of `points`. Throws InvalidArgument for a non-finite point (naming its index), fewer than 4
@@ -294,6 +318,7 @@ inline void qh_plane(QhFace& f, const std::vector<Vec3>& p) {
     }
     hull.facets.push_back(std::move(facet));
   }
+  detail::require_closed_hull(hull, relative_epsilon);
   return hull;
 }
 

@@ -12,7 +12,7 @@
 /// - `bounding_box` (the first rule, kept so old results are reproducible): ±x, ±y, ±z of the upright world frame (the
 ///   faces of the mesh's axis-aligned bounding box); centre of mass always the surface centroid.
 /// For down-direction d the object is rotated so that d points to −z; its contact set is the vertices within
-/// `contact_tolerance_m` of the lowest one (for a hull facet: its own vertices plus the band); the support polygon is
+/// `contact_tolerance_m` of the lowest one (for a hull facet: of the facet's plane, so its own vertices are in it); the support polygon is
 /// the 2D convex hull of the contact set in the plane; the placement is stable iff the polygon has positive area and
 /// the centre of mass projects inside it at least `min_margin_m` from its boundary.
 
@@ -164,9 +164,12 @@ inline Vec3 down_direction(SupportFace f) {
 
 namespace detail {
 /// The placement lying on down-direction `down` (unit) with rotation R (R·down = −z), centre of mass `com`; heights
-/// (R v).z if `rotate_all`, else −down · v.
+/// (R v).z if `rotate_all`, else −down · v. The contact set is the vertices within `band_m` above `contact_from_m`
+/// (a hull facet's plane height, so that its own vertices are in it even where rounding puts another vertex a few ε
+/// below the plane), or above the lowest vertex if that is NaN; the lowest vertex goes to z = 0 in T_turn.
 inline Placement evaluate_down(const IndexedMesh& mesh, const std::vector<char>& used, const Vec3& down, const Mat3& R,
-                               const Vec3& com, double band_m, double min_margin_m, bool rotate_all) {
+                               const Vec3& com, double band_m, double min_margin_m, bool rotate_all,
+                               double contact_from_m = std::numeric_limits<double>::quiet_NaN()) {
   Placement p;
   p.down = down;
   // Heights: (R v).z (the bounding-box rule, as first published) or −down · v (the same up to rounding, cheaper).
@@ -174,9 +177,10 @@ inline Placement evaluate_down(const IndexedMesh& mesh, const std::vector<char>&
   double z_min = std::numeric_limits<double>::infinity();
   for (std::size_t v = 0; v < used.size(); ++v)
     if (used[v]) z_min = std::min(z_min, height(mesh.vertices[v]));
+  const double contact_top = (std::isnan(contact_from_m) ? z_min : contact_from_m) + band_m;
   std::vector<detail::Vec2> contact;
   for (std::size_t v = 0; v < used.size(); ++v) {
-    if (!used[v] || height(mesh.vertices[v]) > z_min + band_m) continue;
+    if (!used[v] || height(mesh.vertices[v]) > contact_top) continue;
     const Vec3 q = R * mesh.vertices[v];
     contact.emplace_back(q.x(), q.y());
   }
@@ -208,6 +212,18 @@ inline Placement evaluate_down(const IndexedMesh& mesh, const std::vector<char>&
   p.T_turn.linear() = R;
   p.T_turn.translation() = Vec3(com.x() - c3.x(), com.y() - c3.y(), -z_min);
   return p;
+}
+
+/// A rotation R with R·down = −z for a unit `down`, orthonormal to rounding for every direction: Eigen's
+/// FromTwoVectors loses precision for nearly opposite vectors (s = √(2(1 + c)) cancels, the quaternion is not
+/// re-normalised: |q|² − 1 ≈ 1e-5 µrad from +z), so a `down` with z > 0.9 is first turned onto +z and then by π
+/// about x. Below that the direct rotation is accurate and kept as it was (published runs stay reproducible).
+inline Mat3 rotation_down(const Vec3& down) {
+  if (down.z() > 0.9) {
+    const Mat3 to_up = Eigen::Quaterniond::FromTwoVectors(down, Vec3::UnitZ()).normalized().toRotationMatrix();
+    return Mat3(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX())) * to_up;
+  }
+  return Eigen::Quaterniond::FromTwoVectors(down, -Vec3::UnitZ()).toRotationMatrix();
 }
 
 inline std::vector<char> used_vertices(const IndexedMesh& mesh) {
@@ -259,11 +275,10 @@ inline SupportFace nearest_face(const Vec3& down) {
   out.reserve(hull.facets.size());
   for (std::size_t f = 0; f < hull.facets.size(); ++f) {
     const Vec3 down = hull.facets[f].normal;
-    const Mat3 R = down.z() > 1.0 - 1e-12
-                       ? Mat3(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))
-                       : Mat3(Eigen::Quaterniond::FromTwoVectors(down, -Vec3::UnitZ()).toRotationMatrix());
+    const Mat3 R = detail::rotation_down(down);
+    // The facet's plane is at height −offset (its lowest vertex); the band is measured from there.
     Placement p = detail::evaluate_down(mesh, used, down, R, com, setting.contact_tolerance_m + 4.0 * hull.epsilon,
-                                        setting.min_margin_m, false);
+                                        setting.min_margin_m, false, -hull.facets[f].offset);
     p.face = detail::nearest_face(down);
     p.hull_facet = static_cast<int>(f);
     out.push_back(std::move(p));
@@ -313,7 +328,7 @@ inline SupportFace nearest_face(const Vec3& down) {
 [[nodiscard]] inline Placement reorientation_placement(const IndexedMesh& mesh, const PlacementSetting& setting = {}) {
   const auto is_bottom = [&](const Placement& p) {
     return setting.rule == PlacementRule::bounding_box ? p.face == SupportFace::minus_z
-                                                       : -p.down.z() > std::cos(setting.min_turn_rad);
+                                                       : -p.down.z() >= std::cos(setting.min_turn_rad);
   };
   for (const Placement& p : stable_placements(mesh, setting))
     if (!is_bottom(p)) return p;
