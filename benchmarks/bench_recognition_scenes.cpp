@@ -52,6 +52,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <unistd.h>
@@ -136,19 +137,25 @@ int main(int argc, char** argv) {
   std::filesystem::remove_all(db_dir);
   explore::PpfRecogniserSetting rs;
   rs.threads = threads;
-  // NBS_BENCH_RECOGNITION_AMBIGUITY=<margin>: refuse ambiguous hypotheses (PpfRecogniserSetting::reject_ambiguous)
-  // with that q_h margin; off by default.
+  // NBS_BENCH_RECOGNITION_AMBIGUITY=<margin>|off: the q_h margin of PpfRecogniserSetting::reject_ambiguous, or the
+  // thesis's recogniser (accept the best placement even when another fits as well); default: the library's.
   if (const char* amb = std::getenv("NBS_BENCH_RECOGNITION_AMBIGUITY")) {
     char* end = nullptr;
-    rs.reject_ambiguous = true;
-    rs.ambiguity_margin = std::strtod(amb, &end);
-    if (end == amb || *end != '\0' || !(rs.ambiguity_margin >= 0.0)) {
-      std::fprintf(stderr, "NBS_BENCH_RECOGNITION_AMBIGUITY must be a q_h margin >= 0, got '%s'\n", amb);
-      return 2;
+    if (std::string_view(amb) == "off") {
+      rs.reject_ambiguous = false;
+    } else {
+      rs.ambiguity_margin = std::strtod(amb, &end);
+      if (end == amb || *end != '\0' || !(rs.ambiguity_margin >= 0.0)) {
+        std::fprintf(stderr, "NBS_BENCH_RECOGNITION_AMBIGUITY must be a q_h margin >= 0 or 'off', got '%s'\n", amb);
+        return 2;
+      }
     }
+  }
+  if (rs.reject_ambiguous)
     std::printf("ambiguous hypotheses refused (q_h margin %.3f, ADD-S max >= %.2f x diagonal)\n", rs.ambiguity_margin,
                 rs.ambiguity_distance);
-  }
+  else
+    std::printf("ambiguous hypotheses accepted (NBS_BENCH_RECOGNITION_AMBIGUITY=off)\n");
   ModelDatabase db = ModelDatabase::create(db_dir);
   const double build_s = bench::seconds([&] {
     for (const scene::ObjectSpec& o : specs)

@@ -5,8 +5,8 @@
 // voxel space), NBS modeling (method C_H, DLR laser stripe profiler) of each unexplained cluster with its box as
 // the unknown area, the new model into the database, re-recognition. Prints one line per step; writes per-object
 // meshes (PLY), a picture per step (top view, clusters coloured: recognised green, being modeled yellow, unexplained
-// red, modeled but not recognised blue, ambiguous — a known model whose pose the view leaves open, with
-// --reject-ambiguous — light green; table grey) and report.json. Run `nbs_explore --help`.
+// red, modeled but not recognised blue, ambiguous — a known model whose pose the view leaves open, unless
+// --accept-ambiguous — light green; table grey) and report.json. Run `nbs_explore --help`.
 
 // Planner headers first (see nbs/planner/detail/components.hpp).
 #include "nbs/planner/nbs_planner.hpp"
@@ -59,7 +59,8 @@ struct Options {
   int object_scans = 20;  ///< n_abort per object
   int steps = 6;
   unsigned threads = 0;
-  double reject_ambiguous = -1.0;  ///< q_h margin of PpfRecogniserSetting::reject_ambiguous; < 0: off
+  double ambiguity_margin = explore::PpfRecogniserSetting{}.ambiguity_margin;  ///< PpfRecogniserSetting's
+  bool accept_ambiguous = false;   ///< PpfRecogniserSetting::reject_ambiguous = false (the thesis's recogniser)
 };
 
 /// One object of --scene: a bundled mesh in its frame (+z up, metres) and whether it is in the database at start.
@@ -166,7 +167,8 @@ int run(const Options& opt) {
   explore::PpfRecogniserSetting rs;
   rs.seed = opt.seed;
   rs.threads = opt.threads;
-  if (opt.reject_ambiguous >= 0.0) rs.reject_ambiguous = true, rs.ambiguity_margin = opt.reject_ambiguous;
+  rs.reject_ambiguous = !opt.accept_ambiguous;
+  rs.ambiguity_margin = opt.ambiguity_margin;
   for (const SceneObject& o : objects)
     if (o.known && !db.find(o.spec.name))
       db.add({o.spec.name, 0.0, {}, {"bundled mesh"}}, o.spec.mesh,
@@ -353,10 +355,12 @@ int main(int argc, char** argv) {
   app.add_option("--object-scans", opt.object_scans, "n_abort per modeled object")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--steps", opt.steps, "most overview steps")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--threads", opt.threads, "threads (0: all)")->capture_default_str();
-  app.add_option("--reject-ambiguous", opt.reject_ambiguous,
-                 "refuse a recognition another placement of the model explains within this q_h margin (e.g. 0.1; "
-                 "the cluster is then 'ambiguous', not modeled); off by default")
-      ->check(CLI::NonNegativeNumber);
+  app.add_option("--ambiguity-margin", opt.ambiguity_margin,
+                 "refuse a recognition another placement of the model explains within this q_h margin (the cluster "
+                 "is then 'ambiguous': not modeled, and further overviews are taken)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_flag("--accept-ambiguous", opt.accept_ambiguous,
+               "accept the best placement even when another explains the view as well (the thesis's recogniser)");
   app.footer("Writes OUT/<model>.ply (learned models, world frame), OUT/step_NN.png and OUT/report.json.");
   CLI11_PARSE(app, argc, argv);
   try {

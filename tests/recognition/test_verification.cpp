@@ -300,7 +300,7 @@ TEST_CASE("PpfRecogniser: a mug with its handle hidden is ambiguous (another tur
     ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.25, 0.2, 0.25)});
     (void)space.integrate(s.scan);
     explore::PpfRecogniserSetting rs;
-    rs.reject_ambiguous = true;
+    REQUIRE(rs.reject_ambiguous);  // the default
     explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space, rs);
     if (db.models().empty()) recogniser.learn("mug", prism_mug());
     const explore::Recognition r = recogniser.recognise({}, s.cluster);

@@ -82,11 +82,17 @@ TEST_CASE("explore_scene with Embree: the mug is recognised, the bunny modeled, 
   GroundTruth::Setting gs;
   gs.sample_density_per_m2 = 5e5;
   const double c_a = GroundTruth(sc.objects[1].mesh, gs).completeness(learned.mesh_world.vertices).c_a();
-  // Step 0: the mug recognised within 30 mm; the last step: the mug and the learned bunny recognised within 30 mm.
-  double mug0 = 1.0, mug_last = 1.0, bunny_last = 1.0;
-  for (const ClusterRecord& c : r.steps.front().clusters)
-    if (c.state == ClusterState::recognised && c.recognition.model == "mug")
-      mug0 = std::min(mug0, error_m(c.recognition, sc.objects[0].T_world_object));
+  // The mug: recognised within 30 mm in some step (with reject_ambiguous, not in an overview that hides its handle)
+  // and never accepted elsewhere; the last step: the mug and the learned bunny recognised within 30 mm.
+  double mug_worst = 0.0, mug_last = 1.0, bunny_last = 1.0;
+  int mug_first = -1, ambiguous_views = 0;
+  for (const StepRecord& s : r.steps)
+    for (const ClusterRecord& c : s.clusters) {
+      if (c.state == ClusterState::ambiguous) ++ambiguous_views;
+      if (c.state != ClusterState::recognised || c.recognition.model != "mug") continue;
+      if (mug_first < 0) mug_first = s.step;
+      mug_worst = std::max(mug_worst, error_m(c.recognition, sc.objects[0].T_world_object));
+    }
   for (const ClusterRecord& c : r.steps.back().clusters) {
     if (c.state != ClusterState::recognised) continue;
     if (c.recognition.model == "mug") mug_last = std::min(mug_last, error_m(c.recognition, sc.objects[0].T_world_object));
@@ -94,11 +100,13 @@ TEST_CASE("explore_scene with Embree: the mug is recognised, the bunny modeled, 
       bunny_last = std::min(bunny_last, error_m(c.recognition, learned.T_world_model));
   }
   std::printf("explore (mug known, bunny not, seed 1): %zu steps, stop %s, %d modeling scans; bunny ĉ_m %.3f, c_a %.3f; "
-              "mug error step 0 %.1f mm, last step %.1f mm; learned bunny %.1f mm; %.1f s\n",
-              r.steps.size(), to_string(r.stop), r.scans, learned.coverage, c_a, 1e3 * mug0, 1e3 * mug_last,
-              1e3 * bunny_last, wall);
+              "mug first recognised in step %d (%d ambiguous cluster views), worst accepted error %.1f mm, last step "
+              "%.1f mm; learned bunny %.1f mm; %.1f s\n",
+              r.steps.size(), to_string(r.stop), r.scans, learned.coverage, c_a, mug_first, ambiguous_views,
+              1e3 * mug_worst, 1e3 * mug_last, 1e3 * bunny_last, wall);
   CHECK(r.stop == ExplorationStop::explained);
-  CHECK(mug0 < 0.03);
+  CHECK(mug_first >= 0);
+  CHECK(mug_worst < 0.03);
   CHECK(mug_last < 0.03);
   CHECK(bunny_last < 0.03);
   CHECK(c_a > 0.8);

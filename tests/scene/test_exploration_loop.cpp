@@ -65,7 +65,9 @@ struct FakeRecogniser {
     Vec3 center;  ///< of the model's box, model frame
   };
   std::vector<Model> models;
-  bool ambiguous = false;  ///< report every match as ambiguous (right model, pose open) instead of accepted
+  /// report the first n matches of the first model as ambiguous (right model, pose open), −1: every match of it
+  int ambiguous_matches = 0;
+  int matches = 0;
   Recognition recognise(const scene::ObjectHypothesis& h, const Scan& cluster) {
     CHECK(cluster.size() == h.points.size());
     Recognition r;
@@ -76,8 +78,8 @@ struct FakeRecogniser {
         r.pose = Pose(Eigen::Translation3d(Vec3(h.centroid.x(), h.centroid.y(), 0.0) - Vec3(m.center.x(), m.center.y(), 0.0)));
         r.q_h = 0.9;
         r.v_h = 0.8;
-        r.accepted = !ambiguous;
-        r.ambiguous = ambiguous;
+        r.ambiguous = &m == &models.front() && (ambiguous_matches < 0 || matches++ < ambiguous_matches);
+        r.accepted = !r.ambiguous;
       }
     return r;
   }
@@ -270,9 +272,11 @@ TEST_CASE("PpfRecogniser::learn: an invalid name is refused before the database 
 TEST_CASE("explore_scene: an ambiguous recognition is neither accepted nor modeled", "[scene][explore]") {
   FakeSource source{frame_of({kA, kB})};
   FakeRecogniser rec = knows_a();
-  rec.ambiguous = true;
+  rec.ambiguous_matches = -1;
   FakeModeler modeler;
-  const ExplorationResult r = explore_scene(source, rec, modeler, ExplorationSetting{});
+  ExplorationSetting st;
+  st.resolve_ambiguous = false;
+  const ExplorationResult r = explore_scene(source, rec, modeler, st);
   REQUIRE(r.steps.size() == 2);
   REQUIRE(r.steps[0].clusters.size() == 2);
   CHECK(r.steps[0].clusters[0].state == ClusterState::ambiguous);
@@ -281,4 +285,32 @@ TEST_CASE("explore_scene: an ambiguous recognition is neither accepted nor model
   CHECK(modeler.budgets.size() == 1);
   CHECK(r.steps[1].clusters[0].state == ClusterState::ambiguous);
   CHECK(r.stop == ExplorationStop::explained);
+}
+
+TEST_CASE("explore_scene: further overviews while a cluster is ambiguous, up to max_steps", "[scene][explore]") {
+  ExplorationSetting st;
+  st.max_steps = 5;
+  FakeModeler modeler;
+  SECTION("resolved by the third overview") {
+    FakeSource source{frame_of({kA, kB})};
+    FakeRecogniser rec = knows_a();
+    rec.ambiguous_matches = 3;  // A is ambiguous in steps 0, 1, 2 (B is modeled in step 0, explained from step 1)
+    const ExplorationResult r = explore_scene(source, rec, modeler, st);
+    REQUIRE(r.steps.size() == 4);
+    for (int k = 0; k < 3; ++k) CHECK(r.steps[k].clusters[0].state == ClusterState::ambiguous);
+    CHECK(r.steps[3].clusters[0].state == ClusterState::recognised);
+    CHECK(r.steps[3].clusters[1].state == ClusterState::recognised);
+    CHECK(modeler.budgets.size() == 1);
+    CHECK(r.stop == ExplorationStop::explained);
+    CHECK(source.calls == 4);
+  }
+  SECTION("never resolved: the step limit") {
+    FakeSource source{frame_of({kA})};
+    FakeRecogniser rec = knows_a();
+    rec.ambiguous_matches = -1;
+    const ExplorationResult r = explore_scene(source, rec, modeler, st);
+    CHECK(r.steps.size() == 5);
+    CHECK(modeler.budgets.empty());
+    CHECK(r.stop == ExplorationStop::max_steps);
+  }
 }

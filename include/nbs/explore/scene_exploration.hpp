@@ -153,6 +153,9 @@ struct ExplorationSetting {
   int scan_budget = 60;                 ///< modeling scans over all objects, ≥ 1
   int max_steps = 8;                    ///< overview steps, ≥ 1
   std::string name_prefix = "object_";  ///< learned models are named prefix + 1, 2, … in learning order
+  /// Take further overviews (up to max_steps) while a cluster is ambiguous, so that another view can tell its pose;
+  /// false: an ambiguous cluster does not keep the loop from stopping as explained.
+  bool resolve_ambiguous = true;
 
   void validate() const {
     segmentation.validate();
@@ -180,12 +183,12 @@ namespace explore_detail {
 
 /// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise` of every cluster; the first
 /// cluster (in segmentation order) that is neither recognised, nor ambiguous (a known model whose pose the view
-/// leaves open: not modeled; a later overview may resolve it; it does not keep the loop from stopping as explained),
-/// nor inside the box of an object modeled before is
+/// leaves open: not modeled), nor inside the box of an object modeled before is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
 /// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
-/// model (explained), when the budget is spent before a cluster could be modeled, after `max_steps` steps, or when a
-/// frame has no support plane. `on_step(record)` is called after each step. Throws InvalidArgument for an invalid
+/// model and (with `resolve_ambiguous`) none is ambiguous (explained), when the budget is spent before a cluster
+/// could be modeled, after `max_steps` steps (also while a cluster stays ambiguous), or when a frame has no support
+/// plane. `on_step(record)` is called after each step. Throws InvalidArgument for an invalid
 /// setting, a frame with points but no profile pose, or a modeler reporting scans outside [0, its max_scans], and
 /// what the source, recogniser or modeler throw.
 template <OverviewSource Source, ObjectRecogniser Recogniser, ObjectModeler Modeler, class OnStep>
@@ -258,10 +261,17 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       out.learned.push_back(learned);
       rec.learned = std::move(learned);
     }
+    const bool modeled = rec.modeled_cluster >= 0, unexplained_left = todo != rec.clusters.end();
+    const bool ambiguous_left = std::any_of(rec.clusters.begin(), rec.clusters.end(),
+                                            [](const ClusterRecord& c) { return c.state == ClusterState::ambiguous; });
     out.steps.push_back(std::move(rec));
     on_step(out.steps.back());
-    if (out.steps.back().modeled_cluster < 0) {
-      out.stop = todo == out.steps.back().clusters.end() ? ExplorationStop::explained : ExplorationStop::scan_budget;
+    if (!modeled && unexplained_left) {
+      out.stop = ExplorationStop::scan_budget;
+      return out;
+    }
+    if (!modeled && !(ambiguous_left && setting.resolve_ambiguous)) {
+      out.stop = ExplorationStop::explained;
       return out;
     }
   }
@@ -289,9 +299,11 @@ struct PpfRecogniserSetting {
   double min_v_h = 0.66;                    ///< least v_h (thesis: 0.66)
   unsigned threads = 1;                     ///< rendering threads (the result does not depend on them)
   /// Refuse an accepted hypothesis when another placement of the same model explains the view as well (the mug
-  /// with its handle hidden): see Recognition::ambiguous. Off by default (the thesis has no such test).
-  bool reject_ambiguous = false;
-  double ambiguity_margin = 0.05;           ///< q_h difference within which two placements count as equally good, ≥ 0
+  /// with its handle hidden): see Recognition::ambiguous. The thesis has no such test (false: its recogniser).
+  bool reject_ambiguous = true;
+  /// q_h difference within which two placements count as equally good, ≥ 0 (chosen on development scenes,
+  /// docs/evaluation.md "Symmetry-aware error and ambiguous poses")
+  double ambiguity_margin = 0.1;
   /// ADD-S max (× the model's bounding-box diagonal) from which two placements differ, > 0. The max, not the mean:
   /// a turned handle moves a few percent of the surface, which the mean dilutes below any useful bound.
   double ambiguity_distance = 0.1;
