@@ -19,6 +19,9 @@
 #include "nbs/kdl/urdf_robot.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "lwr_fixture.hpp"
+#include "nbs_pose.hpp"
+
+using nbs_test::rigid_pose;
 
 using namespace nbs;
 using nbs::kdl::UrdfRobot;
@@ -36,12 +39,6 @@ using nbs_test::lwr;
 
 Mat3 ry(double a) { return Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix(); }
 Mat3 rz(double a) { return Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(); }
-Pose make_pose(const Mat3& R, const Vec3& p) {
-  Pose T = Pose::Identity();
-  T.linear() = R;
-  T.translation() = p;
-  return T;
-}
 using nbs_test::joints;
 
 // Writes `text` to a temporary URDF file and returns its path.
@@ -65,7 +62,7 @@ Pose look_at(const Vec3& eye, const Vec3& target, double roll) {
   const Vec3 z = (target - eye).normalized();
   const Vec3 helper = std::abs(z.z()) > 0.9 ? Vec3::UnitX() : Vec3::UnitZ();
   const Vec3 x = helper.cross(z).normalized();
-  return make_pose((Mat3() << x, z.cross(x), z).finished() * rz(roll), eye);
+  return rigid_pose((Mat3() << x, z.cross(x), z).finished() * rz(roll), eye);
 }
 
 }  // namespace
@@ -79,14 +76,14 @@ TEST_CASE("lwr4.urdf: the chain, limits and hand-eye transform as written", "[kd
   const JointVector upper = joints({d170, d120, d170, d120, d170, d120, d170});
   CHECK((r.joint_limits().upper - upper).cwiseAbs().maxCoeff() < 1e-9);
   CHECK((r.joint_limits().lower + upper).cwiseAbs().maxCoeff() < 1e-9);
-  CHECK(poses_agree(r.hand_eye(), make_pose(rz(pi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
+  CHECK(poses_agree(r.hand_eye(), rigid_pose(rz(pi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
   CHECK(poses_agree(r.base_pose(), Pose::Identity(), 0, 0));
 }
 
 TEST_CASE("lwr4.urdf: forward kinematics against hand-computed poses", "[kdl]") {
   const UrdfRobot r = lwr();
   const Vec3 a2 = kBase + Vec3(0, 0, 0.31), a4 = a2 + Vec3(0, 0, 0.4);
-  const Pose T_FS = make_pose(rz(pi / 2), Vec3(0.05, 0, 0.10));
+  const Pose T_FS = rigid_pose(rz(pi / 2), Vec3(0.05, 0, 0.10));
   struct Case {
     const char* what;
     JointVector q;
@@ -94,20 +91,20 @@ TEST_CASE("lwr4.urdf: forward kinematics against hand-computed poses", "[kdl]") 
   };
   const std::vector<Case> cases{
       // Straight up: the flange 0.31 + 0.4 + 0.39 + 0.078 = 1.178 m above the base.
-      {"zero", JointVector::Zero(7), make_pose(Mat3::Identity(), kBase + Vec3(0, 0, 1.178))},
+      {"zero", JointVector::Zero(7), rigid_pose(Mat3::Identity(), kBase + Vec3(0, 0, 1.178))},
       // A2 (axis −y) at +90°: the arm above A2 turns by R_y(−90°) and points along −x.
-      {"A2 = 90°", joints({0, pi / 2, 0, 0, 0, 0, 0}), make_pose(ry(-pi / 2), a2 + Vec3(-0.868, 0, 0))},
+      {"A2 = 90°", joints({0, pi / 2, 0, 0, 0, 0, 0}), rigid_pose(ry(-pi / 2), a2 + Vec3(-0.868, 0, 0))},
       // A4 (axis +y) at +90°: the forearm points along +x from A4.
-      {"A4 = 90°", joints({0, 0, 0, pi / 2, 0, 0, 0}), make_pose(ry(pi / 2), a4 + Vec3(0.468, 0, 0))},
+      {"A4 = 90°", joints({0, 0, 0, pi / 2, 0, 0, 0}), rigid_pose(ry(pi / 2), a4 + Vec3(0.468, 0, 0))},
       // A1 = 90° turns that about the base's z axis: the forearm points along +y.
       {"A1 = A4 = 90°", joints({pi / 2, 0, 0, pi / 2, 0, 0, 0}),
-       make_pose(rz(pi / 2) * ry(pi / 2), a4 + Vec3(0, 0.468, 0))},
+       rigid_pose(rz(pi / 2) * ry(pi / 2), a4 + Vec3(0, 0.468, 0))},
       // A7 = 90°: only the flange turns about its z axis.
-      {"A7 = 90°", joints({0, 0, 0, 0, 0, 0, pi / 2}), make_pose(rz(pi / 2), kBase + Vec3(0, 0, 1.178))},
+      {"A7 = 90°", joints({0, 0, 0, 0, 0, 0, pi / 2}), rigid_pose(rz(pi / 2), kBase + Vec3(0, 0, 1.178))},
       // A5 = 90° turns the wrist about z; A6 (axis −y) at −90° is then R_y(+90°) in the turned frame:
       // R = R_z(90°) R_y(90°), whose z axis is +y, so the flange is 0.078 m from A6 (1.10 m up) along +y.
       {"A5 = 90°, A6 = −90°", joints({0, 0, 0, 0, pi / 2, -pi / 2, 0}),
-       make_pose(rz(pi / 2) * ry(pi / 2), kBase + Vec3(0, 0.078, 1.10))},
+       rigid_pose(rz(pi / 2) * ry(pi / 2), kBase + Vec3(0, 0.078, 1.10))},
   };
   for (const Case& c : cases) {
     INFO(c.what << "\nfk:\n" << r.fk(c.q).matrix() << "\nexpected T_WF:\n" << c.T_WF.matrix());
@@ -282,7 +279,7 @@ TEST_CASE("UrdfRobot without movable joints: the one sensor pose or nothing", "[
   const JointVector none(0);
   CHECK((r.fk(none).translation() - Vec3(0.1, 0.2, 0.3)).norm() < 1e-15);
   CHECK(r.ik(r.fk(none), none));
-  CHECK_FALSE(r.ik(make_pose(Mat3::Identity(), Vec3(0, 0, 0)), none));
+  CHECK_FALSE(r.ik(rigid_pose(Mat3::Identity(), Vec3(0, 0, 0)), none));
 }
 
 TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming the file, link or value", "[kdl]") {
@@ -320,7 +317,7 @@ TEST_CASE("UrdfRobot::load: bad files and arguments give a clear error naming th
   CHECK_THROWS_AS(r.set_ik_setting(s), InvalidArgument);
   CHECK(r.ik_setting().restarts == kdl::IkSetting{}.restarts);  // unchanged
   CHECK_THROWS_AS(r.set_hand_eye(bad), InvalidArgument);
-  CHECK(poses_agree(r.hand_eye(), make_pose(rz(pi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
+  CHECK(poses_agree(r.hand_eye(), rigid_pose(rz(pi / 2), Vec3(0.05, 0, 0.10)), 1e-12, 1e-12));
   const auto floating = temp_urdf("floating", replaced(urdf, R"(<joint name="lwr_a3" type="revolute">)",
                                                        R"(<joint name="lwr_a3" type="floating">)"));
   CHECK_THROWS_WITH(UrdfRobot::load(floating, "world", "lwr_flange", "sensor"),

@@ -17,6 +17,9 @@
 #include "nbs/gripped/gripped_simulation.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
 #include "nbs/sim/sphere_on_pedestal.hpp"
+#include "nbs_pose.hpp"
+
+using nbs_test::rigid_pose;
 
 namespace {
 
@@ -24,12 +27,6 @@ using nbs::Mat3;
 using nbs::Pose;
 using nbs::Vec3;
 
-Pose rigid_pose(const Mat3& R, const Vec3& t) {
-  Pose p = Pose::Identity();
-  p.linear() = R;
-  p.translation() = t;
-  return p;
-}
 
 void check_pose(const Pose& a, const Pose& b) {
   INFO("got\n" << a.matrix() << "\nexpected\n" << b.matrix());

@@ -15,29 +15,26 @@
 #include "nbs/robot/free_flying.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "planar_robot.hpp"
+#include "nbs_pose.hpp"
+
+using nbs_test::rigid_pose;
 
 using namespace nbs;
 using nbs_test::Contains;
 
 namespace {
 
-Pose rigid(const Mat3& R, const Vec3& t) {
-  Pose T = Pose::Identity();
-  T.linear() = R;
-  T.translation() = t;
-  return T;
-}
 Mat3 rot_y(double a) { return Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix(); }
 const Mat3 kGripRz90 = (Mat3() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished();
 
 // The planar arm reaches up to 0.8 m from B's origin in the x-z plane; the sensor 1.3 m up, looking down (R_y(π)).
-const Pose kTBSPlanar = rigid(rot_y(std::numbers::pi), Vec3(0, 0, 1.3));
+const Pose kTBSPlanar = rigid_pose(rot_y(std::numbers::pi), Vec3(0, 0, 1.3));
 
 PlacedShape sensor_box() {
   PlacedShape s;
   s.link = "fixed sensor";
   s.shape.size = Vec3(0.1, 0.06, 0.08);
-  s.T_WG = rigid(rot_y(std::numbers::pi), Vec3(0, 0, 1.35));
+  s.T_WG = rigid_pose(rot_y(std::numbers::pi), Vec3(0, 0, 1.35));
   return s;
 }
 
@@ -46,34 +43,34 @@ PlacedShape sensor_box() {
 TEST_CASE("GrippedRobot: fk and ik are Eq. 5.1 (hand-computed, free-flying arm)", "[robot][gripped]") {
   // T_BS: R_z(90°), (0.6, 0, 0.8). Arm at q = (0.1, 0.2, 0.3, 0, 0, 0): T_BO = I, (0.1, 0.2, 0.3).
   // T_OS = T_BO⁻¹ · T_BS = R_z(90°), (0.5, −0.2, 0.5).
-  const GrippedRobot<FreeFlyingSensor> r(FreeFlyingSensor{}, rigid(kGripRz90, Vec3(0.6, 0, 0.8)));
+  const GrippedRobot<FreeFlyingSensor> r(FreeFlyingSensor{}, rigid_pose(kGripRz90, Vec3(0.6, 0, 0.8)));
   JointVector q(6);
   q << 0.1, 0.2, 0.3, 0, 0, 0;
   const Pose T_OS = r.fk(q);
   CHECK((T_OS.translation() - Vec3(0.5, -0.2, 0.5)).norm() < 1e-12);
   CHECK((T_OS.linear() - kGripRz90).norm() < 1e-12);
-  CHECK(r.hand_eye().matrix() == rigid(kGripRz90, Vec3(0.6, 0, 0.8)).matrix());  // fk = T_OB · hand_eye
+  CHECK(r.hand_eye().matrix() == rigid_pose(kGripRz90, Vec3(0.6, 0, 0.8)).matrix());  // fk = T_OB · hand_eye
   CHECK((r.object_pose(q).inverse(Eigen::Isometry) * r.hand_eye()).isApprox(T_OS, 1e-12));
 
   // ik of a sensor pose in O: T_OS' = R_z(90°), (0, 0, 0.5) → T_BO = T_BS · T_OS'⁻¹ = I, (0.6, 0, 0.3).
-  const auto s = r.ik(rigid(kGripRz90, Vec3(0, 0, 0.5)), JointVector::Zero(6));
+  const auto s = r.ik(rigid_pose(kGripRz90, Vec3(0, 0, 0.5)), JointVector::Zero(6));
   REQUIRE(s);
   CHECK((s->head<3>() - Vec3(0.6, 0, 0.3)).norm() < 1e-12);
   CHECK(s->tail<3>().norm() < 1e-12);
-  CHECK(poses_agree(r.fk(*s), rigid(kGripRz90, Vec3(0, 0, 0.5)), 1e-12, 1e-12));
+  CHECK(poses_agree(r.fk(*s), rigid_pose(kGripRz90, Vec3(0, 0, 0.5)), 1e-12, 1e-12));
 }
 
 TEST_CASE("GrippedRobot: an object pose beyond the arm's reach is rejected, one within is solved", "[robot][gripped]") {
   const GrippedRobot<test::PlanarArm> r(test::PlanarArm{}, kTBSPlanar);
   const JointVector seed = JointVector::Constant(3, 0.1);
   // Sensor 0.6 m above the object: T_BO = T_BS · T_OS⁻¹ = I, (0, 0, 0.7), within 0.8 m.
-  const Pose near = rigid(rot_y(std::numbers::pi), Vec3(0, 0, 0.6));
+  const Pose near = rigid_pose(rot_y(std::numbers::pi), Vec3(0, 0, 0.6));
   const auto q = r.ik(near, seed);
   REQUIRE(q);
   CHECK((r.object_pose(*q).translation() - Vec3(0, 0, 0.7)).norm() < 1e-9);
   CHECK(poses_agree(r.fk(*q), near, 1e-9, 1e-9));
   // Sensor 0.2 m above: the object at z = 1.1 m, 0.3 m beyond the arm's 0.8 m.
-  const Pose far = rigid(rot_y(std::numbers::pi), Vec3(0, 0, 0.2));
+  const Pose far = rigid_pose(rot_y(std::numbers::pi), Vec3(0, 0, 0.2));
   CHECK_FALSE(r.ik(far, seed));
   // A scan path in O from the reachable pose towards the unreachable one fails where the object leaves the reach
   // (z_BO = 1.3 − z_OS > 0.8 m, i.e. z_OS < 0.5 m: t > 0.25 on the path 0.6 → 0.2 m). The joint-jump bound is
@@ -88,9 +85,9 @@ TEST_CASE("GrippedRobot: an object pose beyond the arm's reach is rejected, one 
 }
 
 TEST_CASE("GrippedRobot: a linear sensor path in O is the object's inverse linear path in B", "[robot][gripped]") {
-  const Pose T_BS = rigid(kGripRz90, Vec3(0.6, 0, 0.8));
+  const Pose T_BS = rigid_pose(kGripRz90, Vec3(0.6, 0, 0.8));
   const GrippedRobot<FreeFlyingSensor> r(FreeFlyingSensor{}, T_BS);
-  const Pose start = rigid(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix(), Vec3(0.1, 0, 0.3));
+  const Pose start = rigid_pose(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix(), Vec3(0.1, 0, 0.3));
   const LinearScanPath path(Viewpoint(start), Vec3(-0.05, 0.1, 0.3));
   const ScanPathReach rep = check_scan_path(r, path, JointVector::Zero(6));
   REQUIRE(rep.ok());
@@ -110,7 +107,7 @@ TEST_CASE("GrippedRobot passes the Robot conformance suite (free-flying and plan
   conformance::RobotCase c;
   c.samples = 30;
   const auto ff = conformance::check_robot_conformance(
-      GrippedRobot<FreeFlyingSensor>(FreeFlyingSensor{}, rigid(kGripRz90, Vec3(0.6, 0, 0.8))), c);
+      GrippedRobot<FreeFlyingSensor>(FreeFlyingSensor{}, rigid_pose(kGripRz90, Vec3(0.6, 0, 0.8))), c);
   CHECK(ff.ik_solved == ff.ik_tried);
   const auto pl = conformance::check_robot_conformance(
       GrippedRobot<test::PlanarArm>(test::PlanarArm{}, kTBSPlanar, {"link3"}, {sensor_box()}), c);
@@ -152,7 +149,7 @@ TEST_CASE("GrippedRobot: bad input names the value", "[robot][gripped]") {
   CHECK_THROWS_WITH(GrippedRobot<test::PlanarArm>(test::PlanarArm{}, kTBSPlanar, {}, {skewed}),
                     Contains("fixed sensor"));
   const GrippedRobot<test::PlanarArm> r(test::PlanarArm{}, kTBSPlanar);
-  Pose bad = rigid(rot_y(std::numbers::pi), Vec3(0, 0, 0.6));
+  Pose bad = rigid_pose(rot_y(std::numbers::pi), Vec3(0, 0, 0.6));
   bad.linear() *= 1.5;
   CHECK_THROWS_WITH(r.ik(bad, JointVector::Zero(3)), Contains("T_OS"));
 }

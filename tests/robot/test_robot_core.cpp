@@ -11,19 +11,16 @@
 #include "nbs/robot/free_flying.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "planar_robot.hpp"
+#include "nbs_pose.hpp"
+
+using nbs_test::rigid_pose;
 
 using namespace nbs;
 using nbs::test::PlanarArm;
 
 namespace {
 
-Pose make_pose(const Mat3& R, const Vec3& p) {
-  Pose T = Pose::Identity();
-  T.linear() = R;
-  T.translation() = p;
-  return T;
-}
-Pose at(double x, double y, double z) { return make_pose(Mat3::Identity(), Vec3(x, y, z)); }
+Pose at(double x, double y, double z) { return rigid_pose(Mat3::Identity(), Vec3(x, y, z)); }
 
 JointVector jv(double a, double b, double c) {
   JointVector q(3);
@@ -65,7 +62,7 @@ TEST_CASE("FreeFlyingSensor: every pose is reachable, every path is flown, no li
   std::mt19937_64 rng(7);
   const auto u = [&] { return 2.0 * nbs::detail::uniform01(rng) - 1.0; };
   for (int i = 0; i < 100; ++i) {
-    const Pose T = make_pose(Eigen::Quaterniond(Eigen::Vector4d(u(), u(), u(), u()).normalized()).toRotationMatrix(),
+    const Pose T = rigid_pose(Eigen::Quaterniond(Eigen::Vector4d(u(), u(), u(), u()).normalized()).toRotationMatrix(),
                              Vec3(u(), u(), u()));
     const auto q = r.ik(T, JointVector::Zero(6));
     REQUIRE(q);

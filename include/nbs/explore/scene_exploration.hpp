@@ -445,15 +445,17 @@ private:
     for (const Vec3& v : mesh.vertices) e.box.extend(v);
     e.mesh = std::make_unique<const IndexedMesh>(mesh);
     e.caster = std::make_unique<Caster>(*e.mesh);
-    if (setting_.reject_ambiguous)
-      e.metric = std::make_unique<const SurfacePoseMetric>(std::span<const Vec3>(
-          e.samples.points.data(), std::min(setting_.validation_vertices, e.samples.size())));
+    if (setting_.reject_ambiguous) e.metric = std::make_unique<const SurfacePoseMetric>(validation_points(e));
     return e;
   }
 
+  /// The first validation_vertices samples of the model (model frame): the vertices of v_h and of the ADD-S metric.
+  [[nodiscard]] std::span<const Vec3> validation_points(const Entry& e) const {
+    return {e.samples.points.data(), std::min(setting_.validation_vertices, e.samples.size())};
+  }
+
   [[nodiscard]] double v_h(const Entry& e, const Pose& pose) const {
-    const std::size_t nv = std::min(setting_.validation_vertices, e.samples.size());
-    return validate_hypothesis(*space_, std::span<const Vec3>(e.samples.points.data(), nv), pose).v_h();
+    return validate_hypothesis(*space_, validation_points(e), pose).v_h();
   }
 
   [[nodiscard]] double quality(const Entry& e, const Pose& pose, const RangeImage& image) const {

@@ -46,9 +46,7 @@ struct GrippedSetup {
                     tool_box.min.transpose(), ") max (", tool_box.max.transpose(), ")");
     detail::require_non_negative("GrippedSetup.finger_margin_m", finger_margin_m);
     for (const PlacedShape& f : fingers) {
-      detail::validate_shape(f);
-      detail::require(f.shape.kind != LinkShape::Kind::mesh || f.shape.mesh != nullptr, "GrippedSetup finger '",
-                      f.link, "' is a mesh that is not loaded");
+      detail::validate_loaded_shape(f, "GrippedSetup finger");
       validate_pose(f.T_WG, detail::concat("GrippedSetup finger '", f.link, "' pose T_OG"));
     }
   }

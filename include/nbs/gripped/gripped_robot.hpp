@@ -58,9 +58,7 @@ public:
     }
     for (const PlacedShape& s : sensor_body_) {
       detail::require(!s.link.empty(), "GrippedRobot sensor_body: a shape without a name");
-      detail::validate_shape(s);
-      detail::require(s.shape.kind != LinkShape::Kind::mesh || s.shape.mesh != nullptr, "GrippedRobot sensor_body '",
-                      s.link, "' is a mesh that is not loaded");
+      detail::validate_loaded_shape(s, "GrippedRobot sensor_body");
       validate_pose(s.T_WG, detail::concat("GrippedRobot sensor_body '", s.link, "' pose T_BG"));
     }
   }

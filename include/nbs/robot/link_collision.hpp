@@ -30,6 +30,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -125,6 +126,14 @@ inline void validate_shape(const PlacedShape& p) {
                       std::isfinite(s.radius) && s.radius >= 0.0 && std::isfinite(s.length) && s.length >= 0.0,
                   "collision shape of link '", p.link, "' has a non-finite pose or a negative or non-finite size "
                   "(size ", s.size.transpose(), ", radius ", s.radius, ", length ", s.length, ")");
+}
+
+/// validate_shape, and a mesh shape must be loaded; `owner` names where the shape comes from (e.g. "GrippedSetup
+/// finger").
+inline void validate_loaded_shape(const PlacedShape& p, std::string_view owner) {
+  validate_shape(p);
+  detail::require(p.shape.kind != LinkShape::Kind::mesh || p.shape.mesh != nullptr, owner, " '", p.link,
+                  "' is a mesh that is not loaded");
 }
 
 }  // namespace detail

@@ -249,11 +249,8 @@ inline SupportFace nearest_face(const Vec3& down) {
   setting.validate();
   const Vec3 com = surface_centroid(mesh);  // validates the mesh
   const Vec3 down = detail::down_direction(face);
-  const Mat3 R = face == SupportFace::plus_z
-                     ? Mat3(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))
-                     : Mat3(Eigen::Quaterniond::FromTwoVectors(down, -Vec3::UnitZ()).toRotationMatrix());
-  Placement p = detail::evaluate_down(mesh, detail::used_vertices(mesh), down, R, com, setting.contact_tolerance_m,
-                                      setting.min_margin_m, true);
+  Placement p = detail::evaluate_down(mesh, detail::used_vertices(mesh), down, detail::rotation_down(down), com,
+                                      setting.contact_tolerance_m, setting.min_margin_m, true);
   p.face = face;
   return p;
 }
