@@ -151,6 +151,19 @@ int main(int argc, char** argv) {
       }
     }
   }
+  // NBS_BENCH_RECOGNITION_PARTS=<n>: objects found in one segmentation cluster at most (recognise_clusters'
+  // max_parts; 0: one per cluster, the thesis); default: the exploration loop's.
+  int max_parts = explore::ExplorationSetting{}.max_parts;
+  if (const char* parts = std::getenv("NBS_BENCH_RECOGNITION_PARTS")) {
+    char* end = nullptr;
+    const long n = std::strtol(parts, &end, 10);
+    if (end == parts || *end != '\0' || n < 0 || n > 100) {
+      std::fprintf(stderr, "NBS_BENCH_RECOGNITION_PARTS must be an integer in [0, 100], got '%s'\n", parts);
+      return 2;
+    }
+    max_parts = static_cast<int>(n);
+  }
+  std::printf("parts per cluster: at most %d (recognise_clusters)\n", max_parts);
   if (rs.reject_ambiguous)
     std::printf("ambiguous hypotheses refused (q_h margin %.3f, ADD-S max >= %.2f x diagonal)\n", rs.ambiguity_margin,
                 rs.ambiguity_distance);
@@ -184,7 +197,7 @@ int main(int argc, char** argv) {
 
   std::map<std::string, std::array<int, 2>> per_object;  // visible, recognised
   std::map<std::string, std::array<int, kMissKinds>> misses;
-  int visible = 0, recognised = 0, accepted_total = 0, false_positives = 0, clusters_total = 0;
+  int visible = 0, recognised = 0, accepted_total = 0, false_positives = 0, clusters_total = 0, parts_total = 0;
   std::vector<double> err_mm, err_deg, fp_per_view;
   double recognise_s = 0.0;
   // Fusion: per scene and object, the accepted hypotheses of its model.
@@ -237,13 +250,18 @@ int main(int argc, char** argv) {
         explore::Recognition r;
       };
       std::vector<ClusterOutcome> outcomes;
-      for (const scene::ObjectHypothesis& h : seg.objects) {
+      std::vector<explore::RecognisedCluster> recognised_clusters;
+      recognise_s += bench::seconds([&] {
+        recognised_clusters = explore::recognise_clusters(recogniser, f.scan, seg, seg_setting, max_parts);
+      });
+      for (const explore::RecognisedCluster& rc : recognised_clusters) {
         ClusterOutcome c;
         std::map<int, std::size_t> votes;
-        for (std::size_t i : h.indices) ++votes[f.labels[i]];
+        for (std::size_t i : rc.hypothesis.indices) ++votes[f.labels[i]];
         for (auto [l, n] : votes)
           if (l >= 0 && n > c.truth_points) c.truth = l, c.truth_points = n;
-        recognise_s += bench::seconds([&] { c.r = recogniser.recognise(h, explore::explore_detail::sub_scan(f.scan, h.indices)); });
+        c.r = rc.record.recognition;
+        parts_total += rc.record.split_from >= 0;
         outcomes.push_back(c);
       }
       clusters_total += static_cast<int>(outcomes.size());
@@ -354,6 +372,7 @@ int main(int argc, char** argv) {
               "view)\n",
               scenes * views, visible, kMinVisiblePoints, recognised, 100.0 * recall, clusters_total, accepted_total,
               false_positives, 100.0 * fp_rate, static_cast<double>(false_positives) / (scenes * views));
+  std::printf("records split from a segmentation cluster that held several objects: %d\n", parts_total);
   if (rs.reject_ambiguous)
     std::printf("refused as ambiguous: %d (%d within 30 mm of the truth, %d not)\n", ambiguous_right + ambiguous_wrong,
                 ambiguous_right, ambiguous_wrong);
@@ -366,7 +385,7 @@ int main(int argc, char** argv) {
                 name.c_str(), kSymmetric.contains(name) ? "ADD-S" : "ADD", v.size(), quantile(v, 0.5), quantile(v, 0.9),
                 quantile(v, 1.0),
                 100.0 * diagonal.at(name));
-  std::printf("time: %.0f ms per cluster (PpfRecogniser::recognise against %zu models)\n",
+  std::printf("time: %.0f ms per cluster record (recognise_clusters: PpfRecogniser::recognise_part against %zu models)\n",
               clusters_total > 0 ? 1e3 * recognise_s / clusters_total : 0.0, db.models().size());
   std::printf("errors of the recognised instances:\n");
   print_distribution("position", err_mm, "mm");

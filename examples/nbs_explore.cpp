@@ -239,6 +239,7 @@ int run(const Options& opt) {
       o["q_h"] = c.recognition.q_h;
       o["v_h"] = c.recognition.v_h;
       o["ambiguous"] = c.recognition.ambiguous;
+      o["split_from"] = c.split_from;  // ≥ 0: split from that segmentation cluster, which held several objects
       o["q_h_alternative"] = c.recognition.q_h_alternative;
       o["box_min"] = {c.box.min.x(), c.box.min.y(), c.box.min.z()};
       o["box_max"] = {c.box.max.x(), c.box.max.y(), c.box.max.z()};
@@ -268,6 +269,7 @@ int run(const Options& opt) {
                       c.recognition.model.empty() ? "-" : c.recognition.model.c_str(), c.recognition.q_h, c.recognition.v_h);
         line << buf;
       }
+      if (c.split_from >= 0) line << " (part of cluster " << c.split_from << ")";
       jc.push_back(o);
     }
     js["clusters"] = jc;

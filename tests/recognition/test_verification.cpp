@@ -326,3 +326,46 @@ TEST_CASE("PpfRecogniser: a mug with its handle hidden is ambiguous (another tur
   bad.ambiguity_margin = -0.1;
   CHECK_THROWS_WITH(bad.validate(), nbs_test::Contains("ambiguity_margin"));
 }
+
+TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box is found in part of the cluster",
+          "[recognition][parts]") {
+  nbs_test::TempDir dir("nbs_ppf_part_");
+  ModelDatabase db = ModelDatabase::create(dir.path / "db");
+  // The step object (in the database) and, 2 mm beside it, a larger box (not in it): one cluster of both.
+  IndexedMesh both = step_object();
+  append(both, box_mesh(Vec3(0.062, -0.09, 0.0), Vec3(0.2, 0.09, 0.12)));
+  const SyntheticScan s = synthetic_scan(both, 0.0003, 3);
+  ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.3, 0.25, 0.25)});
+  for (int k = -1; k <= 1; ++k) (void)space.integrate(synthetic_scan(both, 0.0003, 21 + k, 0.35 * k).scan);
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space);
+  recogniser.learn("step", step_object());
+  const explore::Recognition whole = recogniser.recognise({}, s.cluster);
+  const explore::PartRecognition part = recogniser.recognise_part({}, s.cluster);
+  // The cluster's points on the step object (in its true box, 1 mm grown).
+  const Aabb step_box = box_of(step_object());
+  std::size_t on_step = 0;
+  for (const Vec3& p : s.cluster.points) on_step += Aabb{step_box.min - Vec3::Constant(0.001), step_box.max + Vec3::Constant(0.001)}.contains(s.truth.inverse() * p);
+  const double et = (part.recognition.pose.translation() - s.truth.translation()).norm();
+  std::printf("recognise_part: whole q_h %.3f accepted %d; part %s q_h %.3f v_h %.3f, %zu of %zu points (%zu on the "
+              "object), %.2f mm, %.2f deg\n",
+              whole.q_h, int(whole.accepted), part.recognition.model.c_str(), part.recognition.q_h,
+              part.recognition.v_h, part.points.size(), s.cluster.size(), on_step, 1e3 * et,
+              angle_of(part.recognition.pose, s.truth) * 180.0 / std::numbers::pi);
+  REQUIRE_FALSE(whole.accepted);  // the box's points cost the whole cluster its q_h (Eq. 3.10: (N_m / N_c)²)
+  CHECK(part.recognition.accepted);
+  CHECK(part.recognition.model == "step");
+  CHECK(et < 0.002);
+  CHECK(angle_of(part.recognition.pose, s.truth) < 2.0 * std::numbers::pi / 180.0);
+  CHECK(std::is_sorted(part.points.begin(), part.points.end()));
+  CHECK(part.points.size() >= on_step);
+  CHECK(part.points.size() < s.cluster.size());
+  // Without part models the whole cluster is returned, not recognised.
+  explore::PpfRecogniserSetting none;
+  none.part_models = 0;
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> plain(db, s.sensor, space, none);
+  const explore::PartRecognition p0 = plain.recognise_part({}, s.cluster);
+  CHECK(p0.points.size() == s.cluster.size());
+  CHECK_FALSE(p0.recognition.accepted);
+  none.part_min_points = 2;
+  CHECK_THROWS_WITH(none.validate(), nbs_test::Contains("part_min_points must be >= 3, got 2"));
+}

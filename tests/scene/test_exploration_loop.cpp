@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 #include <utility>
+#include <numeric>
 #include <vector>
 
 #include "nbs/explore/scene_exploration.hpp"
@@ -106,6 +107,33 @@ struct FakeModeler {
       m.mesh = test::box_mesh(Vec3(b.min.x(), b.min.y(), 0.0), b.max);
     }
     return m;
+  }
+};
+
+/// FakeRecogniser that also finds model "a" in the points of a cluster inside `part` (xy) when the cluster as a
+/// whole is not recognised. `bad` 1: reports an index outside the cluster; 2: a part it did not recognise.
+struct FakePartRecogniser : FakeRecogniser {
+  Top part;
+  int bad = 0;
+  int part_calls = 0;
+  PartRecognition recognise_part(const scene::ObjectHypothesis& h, const Scan& cluster) {
+    ++part_calls;
+    PartRecognition p{recognise(h, cluster), {}};
+    for (std::size_t i = 0; i < cluster.size(); ++i) {
+      const Vec3& q = cluster.points[i];
+      if (p.recognition.accepted || (q.x() >= part.lo.x() - 1e-9 && q.x() <= part.hi.x() + 1e-9 &&
+                                     q.y() >= part.lo.y() - 1e-9 && q.y() <= part.hi.y() + 1e-9))
+        p.points.push_back(i);
+    }
+    if (p.points.empty()) {
+      p.points.resize(cluster.size());
+      std::iota(p.points.begin(), p.points.end(), std::size_t{0});
+    } else if (p.points.size() < cluster.size()) {
+      p.recognition.model = "a";
+      p.recognition.accepted = bad != 2;
+      if (bad == 1) p.points.back() = cluster.size();
+    }
+    return p;
   }
 };
 
@@ -312,5 +340,60 @@ TEST_CASE("explore_scene: further overviews while a cluster is ambiguous, up to 
     CHECK(r.steps.size() == 5);
     CHECK(modeler.budgets.empty());
     CHECK(r.stop == ExplorationStop::max_steps);
+  }
+}
+
+TEST_CASE("explore_scene: a cluster holding a known object and an unknown one is split; the rest is modeled",
+          "[scene][explore]") {
+  // D touches A (2 mm apart): one segmentation cluster. The recogniser finds A in part of it.
+  const Top kD{Vec3(-0.118, -0.02, 0.0), Vec3(-0.06, 0.02, 0.05)};
+  FakeSource source{frame_of({kA, kD})};
+  FakePartRecogniser rec;
+  rec.models = knows_a().models;
+  rec.part = kA;
+  FakeModeler modeler;
+  ExplorationSetting st;
+  SECTION("split") {
+    const ExplorationResult r = explore_scene(source, rec, modeler, st);
+    REQUIRE(r.steps.size() == 2);
+    const auto& c0 = r.steps[0].clusters;
+    REQUIRE(c0.size() == 2);
+    CHECK(c0[0].state == ClusterState::recognised);
+    CHECK(c0[0].recognition.model == "a");
+    CHECK(c0[0].split_from == 0);
+    CHECK(c0[1].state == ClusterState::modeling);
+    CHECK(c0[1].split_from == 0);
+    CHECK(r.steps[0].modeled_cluster == 1);
+    // The rest's box is D's top (2 mm grid) grown by the segmentation's margin, not the whole cluster's.
+    const double m = st.segmentation.box_margin_m;
+    REQUIRE(r.learned.size() == 1);
+    CHECK(r.learned[0].box.min.x() == Approx(kD.lo.x() - m).margin(1e-6));
+    CHECK(r.learned[0].box.max.x() == Approx(kD.hi.x() + m).margin(1e-6));
+    CHECK(c0[1].points == 30 * 21);
+    const auto& c1 = r.steps[1].clusters;
+    REQUIRE(c1.size() == 2);
+    CHECK(c1[0].state == ClusterState::recognised);
+    CHECK(c1[1].state == ClusterState::recognised);
+    CHECK(c1[1].recognition.model == r.learned[0].name);
+    CHECK(r.stop == ExplorationStop::explained);
+  }
+  SECTION("max_parts = 0: one object per cluster, the whole cluster modeled") {
+    st.max_parts = 0;
+    const ExplorationResult r = explore_scene(source, rec, modeler, st);
+    REQUIRE(r.steps[0].clusters.size() == 1);
+    CHECK(r.steps[0].clusters[0].split_from == -1);
+    CHECK(r.steps[0].clusters[0].state == ClusterState::modeling);
+    CHECK(rec.part_calls == 0);
+  }
+  SECTION("a bad part is refused") {
+    const auto refused = [&](int bad, int max_parts, const char* text) {
+      FakeSource fresh{source.frame};
+      rec.bad = bad;
+      st.max_parts = max_parts;
+      CHECK_THROWS_WITH(explore_scene(fresh, rec, modeler, st), nbs_test::Contains(text));
+    };
+    refused(1, 3, "out of range");
+    refused(2, 3, "did not recognise");
+    refused(0, -1, "max_parts must be >= 0, got -1");
   }
 }

@@ -107,3 +107,44 @@ TEST_CASE("segment_scene: two boxes on a table, points below it removed", "[scen
   CHECK_THROWS_WITH(segment_scene(p, SegmentationSettings{}), nbs_test::Contains("point 5"));
   CHECK_THROWS_WITH(segment_scene(std::vector<Vec3>{}, SegmentationSettings{}), nbs_test::Contains("empty"));
 }
+
+TEST_CASE("split_hypothesis: what is kept of a cluster, clustered again, with make_hypothesis' boxes",
+          "[scene][segmentation]") {
+  // Table z = 0 (2 mm grid, 0.3 x 0.3 m); two 4 cm box tops at z = 0.03 that touch (x in [-0.04, 0] and (0, 0.04]):
+  // one cluster. Dropping the left top leaves the right one; dropping a 2 cm strip across the right top as well
+  // leaves two pieces of it.
+  std::vector<Vec3> p;
+  for (int i = 0; i <= 150; ++i)
+    for (int j = 0; j <= 150; ++j) p.push_back(Vec3(-0.15 + 0.002 * i, -0.15 + 0.002 * j, 0.0));
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 20; ++j) p.push_back(Vec3(-0.04 + 0.002 * i, -0.02 + 0.002 * j, 0.03));
+  const SegmentationSettings s;
+  const Segmentation seg = segment_scene(p, s);
+  REQUIRE(seg.status == SegmentationStatus::ok);
+  REQUIRE(seg.objects.size() == 1);
+  const ObjectHypothesis& h = seg.objects[0];
+  REQUIRE(h.points.size() == 41 * 21);
+  const auto right = [&](std::size_t k) { return h.points[k].x() > 0.001; };
+  const std::vector<ObjectHypothesis> one = split_hypothesis(p, h, right, seg.plane.plane, s);
+  REQUIRE(one.size() == 1);
+  CHECK(one[0].points.size() == 20 * 21);
+  CHECK(one[0].box.min.x() == Approx(0.002 - s.box_margin_m).margin(1e-9));
+  CHECK(one[0].box.min.z() == Approx(0.0).margin(1e-9));
+  CHECK(one[0].box.max.z() == Approx(0.03 + s.box_margin_m).margin(1e-9));
+  for (std::size_t k = 0; k < one[0].indices.size(); ++k) CHECK(p[one[0].indices[k]] == one[0].points[k]);
+  // The hypothesis of the same indices is the same.
+  const ObjectHypothesis again = make_hypothesis(p, one[0].indices, seg.plane.plane, s);
+  CHECK(again.box.min == one[0].box.min);
+  CHECK(again.box.max == one[0].box.max);
+  CHECK((again.centroid - Vec3(0.021, 0.0, 0.03)).norm() < 1e-9);
+  const auto pieces = split_hypothesis(
+      p, h, [&](std::size_t k) { return right(k) && std::abs(h.points[k].x() - 0.02) > 0.011; }, seg.plane.plane, s);
+  REQUIRE(pieces.size() == 2);
+  CHECK(pieces[0].centroid.x() < pieces[1].centroid.x());
+  CHECK(pieces[0].points.size() + pieces[1].points.size() == (4 + 5) * 21);
+  // Nothing kept: no hypothesis; bad members are refused.
+  CHECK(split_hypothesis(p, h, [](std::size_t) { return false; }, seg.plane.plane, s).empty());
+  CHECK_THROWS_WITH(make_hypothesis(p, std::vector<std::size_t>{}, seg.plane.plane, s), nbs_test::Contains("no member"));
+  CHECK_THROWS_WITH(make_hypothesis(p, std::vector<std::size_t>{p.size()}, seg.plane.plane, s),
+                    nbs_test::Contains("outside the cloud"));
+}

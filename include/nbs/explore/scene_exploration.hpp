@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,6 +26,7 @@
 
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan.hpp"
+#include "nbs/explore/cluster_recognition.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 #include "nbs/recognition/hypothesis_validation.hpp"
 #include "nbs/recognition/hypothesis_verification.hpp"
@@ -39,21 +41,6 @@
 #include "nbs/sim/surface_samples.hpp"
 
 namespace nbs::explore {
-
-/// The outcome of recognising one cluster: the best hypothesis over all database models (by q_h after ICP).
-struct Recognition {
-  std::string model;               ///< database name; empty if no model gave a hypothesis
-  Pose pose = Pose::Identity();    ///< T_WM (model frame → world)
-  double q_h = 0.0;                ///< Eq. 3.10, in [0, 1]
-  double v_h = 0.0;                ///< Eq. 3.11, in [0, 1]
-  bool accepted = false;           ///< q_h ≥ the recogniser's bound and v_h ≥ its bound (thesis: 0.66), not ambiguous
-  /// The data fit another placement of the same model as well (PpfRecogniserSetting::reject_ambiguous): a
-  /// hypothesis that puts some of the surface elsewhere (largest nearest distance, ADD-S max, ≥ ambiguity_distance ×
-  /// the model's diagonal) is valid too and rates q_h ≥ q_h − ambiguity_margin. The model is likely right; its pose
-  /// is not determined by this view (a part that tells the poses apart is hidden).
-  bool ambiguous = false;
-  double q_h_alternative = 0.0;    ///< q_h of the other placement tried (0 if none was tried)
-};
 
 /// The outcome of NBS modeling of one cluster.
 struct ModelingResult {
@@ -70,47 +57,10 @@ concept OverviewSource = requires(S& s, int step) {
   { s.overview(step) } -> std::same_as<Scan>;
 };
 
-/// Recognition against a growing database: `recognise(hypothesis, cluster)` with the cluster's points as a Scan of
-/// one frame (the frame's pose); `learn(name, mesh)` adds a model (model frame) to the database.
-template <class R>
-concept ObjectRecogniser = requires(R& r, const scene::ObjectHypothesis& h, const Scan& cluster, const std::string& name,
-                                    const IndexedMesh& mesh) {
-  { r.recognise(h, cluster) } -> std::same_as<Recognition>;
-  r.learn(name, mesh);
-};
-
 /// NBS modeling of the object in `hypothesis.box` with at most `max_scans` scans (≥ 1).
 template <class M>
 concept ObjectModeler = requires(M& m, const scene::ObjectHypothesis& h, int max_scans) {
   { m.model(h, max_scans) } -> std::same_as<ModelingResult>;
-};
-
-/// What the loop concluded about a cluster in a step.
-enum class ClusterState : std::uint8_t {
-  recognised,   ///< a database model was accepted
-  modeling,     ///< modeled in this step
-  unexplained,  ///< not recognised, not modeled (yet)
-  modeled,      ///< not recognised, but its centroid lies in the box of an object modeled before (not modeled again)
-  ambiguous,    ///< a database model fits, but the view leaves its pose open (Recognition::ambiguous); not modeled
-};
-
-[[nodiscard]] inline const char* to_string(ClusterState s) {
-  switch (s) {
-    case ClusterState::recognised: return "recognised";
-    case ClusterState::modeling: return "modeling";
-    case ClusterState::unexplained: return "unexplained";
-    case ClusterState::modeled: return "modeled";
-    case ClusterState::ambiguous: return "ambiguous";
-  }
-  return "?";
-}
-
-struct ClusterRecord {
-  Aabb box;                        ///< the hypothesis box (the unknown area for modeling)
-  Vec3 centroid = Vec3::Zero();
-  std::size_t points = 0;
-  Recognition recognition;
-  ClusterState state = ClusterState::unexplained;
 };
 
 /// A model the loop made of one cluster. Learned (added to the recogniser under `name`) only if its mesh has a
@@ -156,11 +106,15 @@ struct ExplorationSetting {
   /// Take further overviews (up to max_steps) while a cluster is ambiguous, so that another view can tell its pose;
   /// false: an ambiguous cluster does not keep the loop from stopping as explained.
   bool resolve_ambiguous = true;
+  /// Objects a recogniser that models PartRecogniser may find in one segmentation cluster (touching objects form
+  /// one cluster; see recognise_clusters), ≥ 0; 0: one object per cluster, as the thesis.
+  int max_parts = 3;
 
   void validate() const {
     segmentation.validate();
     detail::require(scan_budget >= 1, "ExplorationSetting.scan_budget must be >= 1, got ", scan_budget);
     detail::require(max_steps >= 1, "ExplorationSetting.max_steps must be >= 1, got ", max_steps);
+    detail::require(max_parts >= 0, "ExplorationSetting.max_parts must be >= 0, got ", max_parts);
   }
 };
 
@@ -171,17 +125,8 @@ struct ExplorationResult {
   ExplorationStop stop = ExplorationStop::max_steps;
 };
 
-namespace explore_detail {
-/// The points of `frame` with the given indices, as a Scan of the frame's first pose.
-[[nodiscard]] inline Scan sub_scan(const Scan& frame, std::span<const std::size_t> indices) {
-  Scan out;
-  out.profile_poses = {frame.profile_poses.front()};
-  for (const std::size_t i : indices) out.add_point(frame.points[i], 0);
-  return out;
-}
-}  // namespace explore_detail
-
-/// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise` of every cluster; the first
+/// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise_clusters` (every cluster recognised;
+/// with a PartRecogniser, a cluster that holds a known object and more is split, up to `max_parts`); the first
 /// cluster (in segmentation order) that is neither recognised, nor ambiguous (a known model whose pose the view
 /// leaves open: not modeled), nor inside the box of an object modeled before is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
@@ -213,22 +158,14 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       out.stop = ExplorationStop::no_plane;
       return out;
     }
-    for (const scene::ObjectHypothesis& h : seg.objects) {
-      ClusterRecord c;
-      c.box = h.box;
-      c.centroid = h.centroid;
-      c.points = h.points.size();
-      c.recognition = recogniser.recognise(h, explore_detail::sub_scan(frame, h.indices));
-      if (c.recognition.accepted) {
-        c.state = ClusterState::recognised;
-      } else if (c.recognition.ambiguous) {
-        c.state = ClusterState::ambiguous;
-      } else {
-        const bool seen = std::any_of(out.learned.begin(), out.learned.end(),
-                                      [&](const LearnedModel& m) { return m.box.contains(h.centroid); });
-        c.state = seen ? ClusterState::modeled : ClusterState::unexplained;
-      }
-      rec.clusters.push_back(std::move(c));
+    std::vector<scene::ObjectHypothesis> hypotheses;  // parallel to rec.clusters
+    for (RecognisedCluster& c : recognise_clusters(recogniser, frame, seg, setting.segmentation, setting.max_parts)) {
+      if (c.record.state == ClusterState::unexplained &&
+          std::any_of(out.learned.begin(), out.learned.end(),
+                      [&](const LearnedModel& m) { return m.box.contains(c.record.centroid); }))
+        c.record.state = ClusterState::modeled;
+      rec.clusters.push_back(std::move(c.record));
+      hypotheses.push_back(std::move(c.hypothesis));
     }
     const auto todo = std::find_if(rec.clusters.begin(), rec.clusters.end(),
                                    [](const ClusterRecord& c) { return c.state == ClusterState::unexplained; });
@@ -238,12 +175,12 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       rec.modeled_cluster = static_cast<int>(k);
       todo->state = ClusterState::modeling;
       const int budget = setting.scan_budget - out.scans;
-      ModelingResult m = modeler.model(seg.objects[k], budget);
+      ModelingResult m = modeler.model(hypotheses[k], budget);
       detail::require(m.scans >= 0 && m.scans <= budget, "explore_scene: the modeler reported ", m.scans,
                       " scans, outside [0, ", budget, "] (its max_scans)");
       out.scans += m.scans;
       LearnedModel learned;
-      learned.box = seg.objects[k].box;
+      learned.box = hypotheses[k].box;
       learned.T_world_model = Pose(Eigen::Translation3d(learned.box.center().x(), learned.box.center().y(),
                                                         learned.box.min.z()));
       learned.coverage = m.coverage;
@@ -307,6 +244,11 @@ struct PpfRecogniserSetting {
   /// ADD-S max (× the model's bounding-box diagonal) from which two placements differ, > 0. The max, not the mean:
   /// a turned handle moves a few percent of the surface, which the mean dilutes below any useful bound.
   double ambiguity_distance = 0.1;
+  /// recognise_part: the models (best q_h first) whose best hypothesis crops a cluster that is not recognised as a
+  /// whole; 0: no parts
+  std::size_t part_models = 2;
+  double part_margin_m = 0.01;              ///< the crop: the model's box at the hypothesis pose grown by this, ≥ 0
+  std::size_t part_min_points = 50;         ///< least points of a crop, ≥ 3
 
   void validate() const {
     model.validate();
@@ -323,6 +265,9 @@ struct PpfRecogniserSetting {
                          min_v_h);
     nbs::detail::require_non_negative("PpfRecogniserSetting.ambiguity_margin", ambiguity_margin);
     nbs::detail::require_positive("PpfRecogniserSetting.ambiguity_distance", ambiguity_distance);
+    nbs::detail::require_non_negative("PpfRecogniserSetting.part_margin_m", part_margin_m);
+    nbs::detail::require(part_min_points >= 3, "PpfRecogniserSetting.part_min_points must be >= 3, got ",
+                         part_min_points);
   }
 };
 
@@ -346,7 +291,66 @@ public:
 
   [[nodiscard]] const ModelDatabase& database() const { return *db_; }
 
+  /// Thesis Sec. 3.4 on the whole cluster (see the class comment). Throws InvalidArgument for a non-empty cluster
+  /// without a profile pose.
   [[nodiscard]] Recognition recognise(const scene::ObjectHypothesis&, const Scan& cluster) {
+    return recognise_points(cluster, nullptr);
+  }
+
+  /// recognise(), and if the cluster as a whole is neither accepted nor ambiguous: for the best hypothesis (after
+  /// ICP) of each of the `part_models` best models by q_h, the cluster's points inside that model's box at that pose
+  /// (grown by part_margin_m) — if at least part_min_points and not all — are recognised on their own; the first
+  /// crop recognised (accepted or ambiguous) is the part: a known object touching something else. Else the whole.
+  [[nodiscard]] PartRecognition recognise_part(const scene::ObjectHypothesis&, const Scan& cluster) {
+    std::vector<ModelBest> per_model;
+    PartRecognition out;
+    out.recognition = recognise_points(cluster, &per_model);
+    out.points.resize(cluster.size());
+    std::iota(out.points.begin(), out.points.end(), std::size_t{0});
+    if (out.recognition.accepted || out.recognition.ambiguous) return out;
+    std::stable_sort(per_model.begin(), per_model.end(),
+                     [](const ModelBest& a, const ModelBest& b) { return a.q_h > b.q_h; });
+    per_model.resize(std::min(per_model.size(), setting_.part_models));
+    for (const ModelBest& m : per_model) {
+      const Entry& e = entries_[m.model];
+      const Aabb grown{e.box.min - Vec3::Constant(setting_.part_margin_m),
+                       e.box.max + Vec3::Constant(setting_.part_margin_m)};
+      const Pose t_mw = m.pose.inverse();
+      std::vector<std::size_t> crop;
+      for (std::size_t i = 0; i < cluster.size(); ++i)
+        if (grown.contains(t_mw * cluster.points[i])) crop.push_back(i);
+      if (crop.size() < setting_.part_min_points || crop.size() == cluster.size()) continue;
+      Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
+      if (!(r.accepted || r.ambiguous)) continue;
+      out.recognition = std::move(r);
+      out.points = std::move(crop);
+      return out;
+    }
+    return out;
+  }
+
+  /// Adds `mesh` (model frame) as `name` to the database (its PPF table built with setting.model) and to the
+  /// recogniser. Throws InvalidArgument for an invalid name or mesh or a name already in the database, and what
+  /// ModelDatabase::add throws (nothing changes then).
+  void learn(const std::string& name, const IndexedMesh& mesh) {
+    ModelDatabase::check_name(name);
+    nbs::detail::require(db_->find(name) == nullptr, "PpfRecogniser::learn: a model named '", name,
+                         "' is already in the database");
+    Entry e = make_entry(mesh, name);
+    db_->add(ModelMetadata{name, 0.0, {}, {"nbs_explore"}}, mesh, PpfModel(e.samples, setting_.model));
+    entries_.push_back(std::move(e));
+  }
+
+private:
+  /// The best hypothesis of one database model (entries_[model]) on a cluster, after ICP.
+  struct ModelBest {
+    std::size_t model = 0;
+    Pose pose = Pose::Identity();
+    double q_h = 0.0;
+  };
+
+  /// recognise() on `cluster`; each model's best hypothesis into *per_model if not null.
+  [[nodiscard]] Recognition recognise_points(const Scan& cluster, std::vector<ModelBest>* per_model) {
     Recognition best;
     if (cluster.empty() || entries_.empty()) return best;
     nbs::detail::require(!cluster.profile_poses.empty(), "PpfRecogniser::recognise: the cluster has ",
@@ -374,6 +378,7 @@ public:
       const RefinedPose refined = refine_pose(e.samples, pose, cluster);
       const double q_refined = refined.icp.applied() ? quality(e, refined.pose, image) : -1.0;
       if (q_refined >= q_best) q_best = q_refined, pose = refined.pose;
+      if (per_model) per_model->push_back({k, pose, q_best});
       if (q_best > best.q_h || best.model.empty()) {
         best.model = db_->models()[k].metadata.name;
         best.pose = pose;
@@ -414,19 +419,6 @@ public:
     return best;
   }
 
-  /// Adds `mesh` (model frame) as `name` to the database (its PPF table built with setting.model) and to the
-  /// recogniser. Throws InvalidArgument for an invalid name or mesh or a name already in the database, and what
-  /// ModelDatabase::add throws (nothing changes then).
-  void learn(const std::string& name, const IndexedMesh& mesh) {
-    ModelDatabase::check_name(name);
-    nbs::detail::require(db_->find(name) == nullptr, "PpfRecogniser::learn: a model named '", name,
-                         "' is already in the database");
-    Entry e = make_entry(mesh, name);
-    db_->add(ModelMetadata{name, 0.0, {}, {"nbs_explore"}}, mesh, PpfModel(e.samples, setting_.model));
-    entries_.push_back(std::move(e));
-  }
-
-private:
   struct Entry {
     std::string name;
     OrientedPoints samples;  ///< model frame

@@ -59,6 +59,51 @@ struct Segmentation {
   std::vector<ObjectHypothesis> objects;  ///< ordered by smallest point index.
 };
 
+/// The hypothesis of the cloud points `members` (indices into `points`, ascending, not empty): the points, their
+/// centroid, and their box with its bottom lowered to `plane` under its corners and grown by s.box_margin_m in x, y
+/// and at the top.
+[[nodiscard]] inline ObjectHypothesis make_hypothesis(std::span<const Vec3> points, std::span<const std::size_t> members,
+                                                      const Plane& plane, const SegmentationSettings& s) {
+  detail::require(!members.empty(), "make_hypothesis: no member points");
+  ObjectHypothesis h;
+  for (const std::size_t i : members) {
+    detail::require(i < points.size(), "make_hypothesis: member ", i, " is outside the cloud of ", points.size(),
+                    " points");
+    h.indices.push_back(i);
+    h.points.push_back(points[i]);
+    h.centroid += points[i];
+    h.box.extend(points[i]);
+  }
+  h.centroid /= static_cast<double>(members.size());
+  double bottom = h.box.min.z();
+  for (double x : {h.box.min.x(), h.box.max.x()})
+    for (double y : {h.box.min.y(), h.box.max.y()}) bottom = std::min(bottom, plane.z_at(x, y));
+  h.box.min = Vec3(h.box.min.x() - s.box_margin_m, h.box.min.y() - s.box_margin_m, bottom);
+  h.box.max += Vec3::Constant(s.box_margin_m);
+  return h;
+}
+
+/// The points of `h` (from the cloud `points`) that `keep` says to keep, clustered again (s.cluster: clusters below
+/// min_size are dropped) into hypotheses by make_hypothesis — e.g. what a recognised object leaves of a cluster that
+/// held it and a neighbour. `keep(k)` takes the index k into h.points. Ordered by smallest point index.
+template <class Keep>
+[[nodiscard]] std::vector<ObjectHypothesis> split_hypothesis(std::span<const Vec3> points, const ObjectHypothesis& h,
+                                                             Keep&& keep, const Plane& plane,
+                                                             const SegmentationSettings& s) {
+  s.validate();
+  std::vector<Vec3> rest;
+  std::vector<std::size_t> index;
+  for (std::size_t k = 0; k < h.points.size(); ++k)
+    if (keep(k)) rest.push_back(h.points[k]), index.push_back(h.indices[k]);
+  std::vector<ObjectHypothesis> out;
+  for (const auto& cluster : euclidean_clusters(rest, s.cluster)) {
+    std::vector<std::size_t> members;
+    for (const std::size_t j : cluster) members.push_back(index[j]);
+    out.push_back(make_hypothesis(points, members, plane, s));
+  }
+  return out;
+}
+
 /// Segments `points` (world frame, metres). Deterministic for the settings' seed (serial). Throws InvalidArgument for
 /// invalid settings, an empty cloud or a non-finite point; a cloud without a plane gives status no_plane.
 [[nodiscard]] inline Segmentation segment_scene(std::span<const Vec3> points, const SegmentationSettings& s) {
@@ -78,20 +123,9 @@ struct Segmentation {
     if (plane.signed_distance(points[i]) > clearance) above.push_back(points[i]), index.push_back(i);
   out.removed_points = points.size() - above.size();
   for (const auto& cluster : euclidean_clusters(above, s.cluster)) {
-    ObjectHypothesis h;
-    for (auto j : cluster) {
-      h.indices.push_back(index[j]);
-      h.points.push_back(above[j]);
-      h.centroid += above[j];
-      h.box.extend(above[j]);
-    }
-    h.centroid /= static_cast<double>(cluster.size());
-    double bottom = h.box.min.z();
-    for (double x : {h.box.min.x(), h.box.max.x()})
-      for (double y : {h.box.min.y(), h.box.max.y()}) bottom = std::min(bottom, plane.z_at(x, y));
-    h.box.min = Vec3(h.box.min.x() - s.box_margin_m, h.box.min.y() - s.box_margin_m, bottom);
-    h.box.max += Vec3::Constant(s.box_margin_m);
-    out.objects.push_back(std::move(h));
+    std::vector<std::size_t> members;
+    for (const std::size_t j : cluster) members.push_back(index[j]);
+    out.objects.push_back(make_hypothesis(points, members, plane, s));
   }
   return out;
 }
