@@ -369,3 +369,30 @@ TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box
   none.part_min_points = 2;
   CHECK_THROWS_WITH(none.validate(), nbs_test::Contains("part_min_points must be >= 3, got 2"));
 }
+
+TEST_CASE("PpfRecogniser::recognise_part: a small neighbour of a recognised object is left outside the part",
+          "[recognition][parts]") {
+  nbs_test::TempDir dir("nbs_ppf_part_small_");
+  ModelDatabase db = ModelDatabase::create(dir.path / "db");
+  // A 4 cm cube 2 mm beside the step object: the whole cluster is still accepted as the step object.
+  IndexedMesh both = step_object();
+  append(both, box_mesh(Vec3(0.062, -0.02, 0.0), Vec3(0.102, 0.02, 0.04)));
+  const SyntheticScan s = synthetic_scan(both, 0.0003, 4);
+  ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.3, 0.25, 0.25)});
+  for (int k = -1; k <= 1; ++k) (void)space.integrate(synthetic_scan(both, 0.0003, 31 + k, 0.35 * k).scan);
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space);
+  recogniser.learn("step", step_object());
+  const explore::PartRecognition part = recogniser.recognise_part({}, s.cluster);
+  // The oracle: the cluster's points more than 1 cm outside the step object's true box (the cube's, bar its side
+  // within the 1 cm margin).
+  const Aabb grown{box_of(step_object()).min - Vec3::Constant(0.01), box_of(step_object()).max + Vec3::Constant(0.01)};
+  std::size_t outside = 0;
+  for (const Vec3& p : s.cluster.points) outside += !grown.contains(s.truth.inverse() * p);
+  std::printf("recognise_part, small neighbour: %s q_h %.3f accepted %d, %zu of %zu points, %zu outside the true "
+              "box\n", part.recognition.model.c_str(), part.recognition.q_h, int(part.recognition.accepted),
+              part.points.size(), s.cluster.size(), outside);
+  REQUIRE(outside >= 50);
+  CHECK(part.recognition.accepted);
+  CHECK(part.recognition.model == "step");
+  CHECK(part.points.size() + outside == s.cluster.size());
+}

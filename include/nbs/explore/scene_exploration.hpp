@@ -297,28 +297,31 @@ public:
     return recognise_points(cluster, nullptr);
   }
 
-  /// recognise(), and if the cluster as a whole is neither accepted nor ambiguous: for the best hypothesis (after
-  /// ICP) of each of the `part_models` best models by q_h, the cluster's points inside that model's box at that pose
-  /// (grown by part_margin_m) — if at least part_min_points and not all — are recognised on their own; the first
-  /// crop recognised (accepted or ambiguous) is the part: a known object touching something else. Else the whole.
+  /// recognise(); if the cluster as a whole is accepted or ambiguous, the part is the cluster's points inside the
+  /// model's box at its pose (grown by part_margin_m) when at least part_min_points lie outside it (a neighbour
+  /// touching a recognised object), else the whole. If not: for the best hypothesis (after ICP) of each of the
+  /// `part_models` best models by q_h, the crop to that model's box at that pose — if at least part_min_points and
+  /// not all — is recognised on its own; the first crop recognised (accepted or ambiguous) is the part: a known
+  /// object touching something else. Else the whole. part_models = 0: always the whole.
   [[nodiscard]] PartRecognition recognise_part(const scene::ObjectHypothesis&, const Scan& cluster) {
     std::vector<ModelBest> per_model;
     PartRecognition out;
     out.recognition = recognise_points(cluster, &per_model);
     out.points.resize(cluster.size());
     std::iota(out.points.begin(), out.points.end(), std::size_t{0});
-    if (out.recognition.accepted || out.recognition.ambiguous) return out;
+    if (setting_.part_models == 0) return out;
+    if (out.recognition.accepted || out.recognition.ambiguous) {
+      // Recognised as a whole: the part is its box's crop if at least part_min_points are left outside it.
+      const std::size_t k = entry_index(out.recognition.model);
+      std::vector<std::size_t> crop = crop_to_model(cluster, entries_[k], out.recognition.pose);
+      if (!crop.empty() && cluster.size() - crop.size() >= setting_.part_min_points) out.points = std::move(crop);
+      return out;
+    }
     std::stable_sort(per_model.begin(), per_model.end(),
                      [](const ModelBest& a, const ModelBest& b) { return a.q_h > b.q_h; });
     per_model.resize(std::min(per_model.size(), setting_.part_models));
     for (const ModelBest& m : per_model) {
-      const Entry& e = entries_[m.model];
-      const Aabb grown{e.box.min - Vec3::Constant(setting_.part_margin_m),
-                       e.box.max + Vec3::Constant(setting_.part_margin_m)};
-      const Pose t_mw = m.pose.inverse();
-      std::vector<std::size_t> crop;
-      for (std::size_t i = 0; i < cluster.size(); ++i)
-        if (grown.contains(t_mw * cluster.points[i])) crop.push_back(i);
+      std::vector<std::size_t> crop = crop_to_model(cluster, entries_[m.model], m.pose);
       if (crop.size() < setting_.part_min_points || crop.size() == cluster.size()) continue;
       Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
       if (!(r.accepted || r.ambiguous)) continue;
@@ -342,6 +345,25 @@ public:
   }
 
 private:
+  struct Entry;
+
+  /// The indices of the cluster's points inside the entry's box at `pose` (T_WM), grown by part_margin_m.
+  [[nodiscard]] std::vector<std::size_t> crop_to_model(const Scan& cluster, const Entry& e, const Pose& pose) const {
+    const Vec3 m = Vec3::Constant(setting_.part_margin_m);
+    const Aabb grown{e.box.min - m, e.box.max + m};
+    const Pose t_mw = pose.inverse();
+    std::vector<std::size_t> crop;
+    for (std::size_t i = 0; i < cluster.size(); ++i)
+      if (grown.contains(t_mw * cluster.points[i])) crop.push_back(i);
+    return crop;
+  }
+
+  [[nodiscard]] std::size_t entry_index(const std::string& name) const {
+    const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.name == name; });
+    nbs::detail::require(it != entries_.end(), "PpfRecogniser: no model named '", name, "'");
+    return static_cast<std::size_t>(it - entries_.begin());
+  }
+
   /// The best hypothesis of one database model (entries_[model]) on a cluster, after ICP.
   struct ModelBest {
     std::size_t model = 0;
