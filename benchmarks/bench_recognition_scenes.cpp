@@ -385,7 +385,7 @@ int main(int argc, char** argv) {
                 name.c_str(), kSymmetric.contains(name) ? "ADD-S" : "ADD", v.size(), quantile(v, 0.5), quantile(v, 0.9),
                 quantile(v, 1.0),
                 100.0 * diagonal.at(name));
-  std::printf("time: %.0f ms per cluster record (recognise_clusters: PpfRecogniser::recognise_part against %zu models)\n",
+  std::printf("time: %.0f ms per cluster record (recognise_clusters against %zu models)\n",
               clusters_total > 0 ? 1e3 * recognise_s / clusters_total : 0.0, db.models().size());
   std::printf("errors of the recognised instances:\n");
   print_distribution("position", err_mm, "mm");

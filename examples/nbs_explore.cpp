@@ -99,7 +99,7 @@ std::vector<SceneObject> parse_scene(const std::string& spec) {
 
 /// Top view of the frame's points (0.8 × 0.6 m table, 1 px = 1 mm), coloured by cluster state.
 void write_step_picture(const std::string& path, const Scan& frame, const scene::SceneSettings& st,
-                        const explore::StepRecord& rec, const explore::ExplorationSetting& es) {
+                        const explore::StepRecord& rec) {
   const auto w = static_cast<std::uint32_t>(std::lround(st.table_size_x_m * 1000)),
              h = static_cast<std::uint32_t>(std::lround(st.table_size_y_m * 1000));
   std::vector<std::uint8_t> rgb(std::size_t{w} * h * 3, 255);
@@ -113,17 +113,16 @@ void write_step_picture(const std::string& path, const Scan& frame, const scene:
       }
   };
   for (const Vec3& p : frame.points) put(p, {170, 170, 170});
-  const scene::Segmentation seg = scene::segment_scene(frame.points, es.segmentation);
-  for (std::size_t k = 0; k < seg.objects.size() && k < rec.clusters.size(); ++k) {
+  for (const explore::ClusterRecord& cluster : rec.clusters) {
     std::array<std::uint8_t, 3> c{220, 30, 30};
-    switch (rec.clusters[k].state) {
+    switch (cluster.state) {
       case explore::ClusterState::recognised: c = {30, 170, 30}; break;
       case explore::ClusterState::modeling: c = {235, 200, 0}; break;
       case explore::ClusterState::modeled: c = {40, 80, 220}; break;
       case explore::ClusterState::ambiguous: c = {150, 210, 90}; break;
       case explore::ClusterState::unexplained: break;
     }
-    for (const Vec3& p : seg.objects[k].points) put(p, c);
+    for (const std::size_t i : cluster.indices) put(frame.points[i], c);
   }
   png::write_png(path, w, h, rgb);
 }
@@ -197,8 +196,10 @@ int run(const Options& opt) {
       break;
   }
 
-  // Ground truth of a cluster: the object most of its points are nearest to.
-  const auto truth_of = [&](const explore::ClusterRecord&, const std::vector<Vec3>& pts) {
+  // Ground truth of a cluster of `frame`: the object most of its points are nearest to.
+  const auto truth_of = [&](const explore::ClusterRecord& c, const Scan& frame) {
+    std::vector<Vec3> pts;
+    for (const std::size_t i : c.indices) pts.push_back(frame.points[i]);
     const std::vector<int> labels = overview_scanner.labels(pts, opt.threads);
     std::map<int, int> votes;
     for (int l : labels) ++votes[l];
@@ -217,7 +218,6 @@ int run(const Options& opt) {
   std::printf("step  view (x, y, z) m          clusters  recognised (q_h / v_h, error mm / deg)   modeling (ĉ_m, scans)\n");
   Scan last_frame;
   const auto record = [&](const explore::StepRecord& rec) {
-    const scene::Segmentation seg = scene::segment_scene(last_frame.points, es.segmentation);
     nlohmann::ordered_json js;
     js["step"] = rec.step;
     const Vec3 v = rec.view.translation();
@@ -231,7 +231,7 @@ int run(const Options& opt) {
     for (std::size_t k = 0; k < rec.clusters.size(); ++k) {
       const explore::ClusterRecord& c = rec.clusters[k];
       nlohmann::ordered_json o;
-      const int truth = k < seg.objects.size() ? truth_of(c, seg.objects[k].points) : -1;
+      const int truth = truth_of(c, last_frame);
       o["state"] = explore::to_string(c.state);
       o["points"] = c.points;
       o["truth_object"] = truth >= 0 ? sc.objects[std::size_t(truth)].name : std::string();
@@ -275,7 +275,7 @@ int run(const Options& opt) {
     js["clusters"] = jc;
     if (rec.learned) {
       const explore::LearnedModel& m = *rec.learned;
-      const int truth = truth_of(rec.clusters[std::size_t(rec.modeled_cluster)], seg.objects[std::size_t(rec.modeled_cluster)].points);
+      const int truth = truth_of(rec.clusters[std::size_t(rec.modeled_cluster)], last_frame);
       nlohmann::ordered_json jm;
       jm["name"] = m.name;
       jm["truth_object"] = truth >= 0 ? sc.objects[std::size_t(truth)].name : std::string();
@@ -305,7 +305,7 @@ int run(const Options& opt) {
     }
     char name[64];
     std::snprintf(name, sizeof name, "step_%02d.png", rec.step);
-    write_step_picture((std::filesystem::path(opt.out) / name).string(), last_frame, st, rec, es);
+    write_step_picture((std::filesystem::path(opt.out) / name).string(), last_frame, st, rec);
     jsteps.push_back(js);
     std::printf("%s\n", line.str().c_str());
     std::fflush(stdout);

@@ -69,6 +69,7 @@ struct FakeRecogniser {
   /// report the first n matches of the first model as ambiguous (right model, pose open), −1: every match of it
   int ambiguous_matches = 0;
   int matches = 0;
+  bool learned_ambiguous = false;  ///< report every match of a learned model as ambiguous
   Recognition recognise(const scene::ObjectHypothesis& h, const Scan& cluster) {
     CHECK(cluster.size() == h.points.size());
     Recognition r;
@@ -79,7 +80,8 @@ struct FakeRecogniser {
         r.pose = Pose(Eigen::Translation3d(Vec3(h.centroid.x(), h.centroid.y(), 0.0) - Vec3(m.center.x(), m.center.y(), 0.0)));
         r.q_h = 0.9;
         r.v_h = 0.8;
-        r.ambiguous = &m == &models.front() && (ambiguous_matches < 0 || matches++ < ambiguous_matches);
+        r.ambiguous = (&m == &models.front() && (ambiguous_matches < 0 || matches++ < ambiguous_matches)) ||
+                      (&m != &models.front() && learned_ambiguous);
         r.accepted = !r.ambiguous;
       }
     return r;
@@ -332,6 +334,16 @@ TEST_CASE("explore_scene: further overviews while a cluster is ambiguous, up to 
     CHECK(r.stop == ExplorationStop::explained);
     CHECK(source.calls == 4);
   }
+  SECTION("ambiguous inside the box of an object modeled before: modeled, the loop stops") {
+    FakeSource source{frame_of({kA, kB})};
+    FakeRecogniser rec = knows_a();
+    rec.learned_ambiguous = true;  // B, modeled in step 0, fits its learned model only ambiguously from then on
+    const ExplorationResult r = explore_scene(source, rec, modeler, st);
+    REQUIRE(r.steps.size() == 2);
+    CHECK(r.steps[1].clusters[1].recognition.ambiguous);
+    CHECK(r.steps[1].clusters[1].state == ClusterState::modeled);
+    CHECK(r.stop == ExplorationStop::explained);
+  }
   SECTION("never resolved: the step limit") {
     FakeSource source{frame_of({kA})};
     FakeRecogniser rec = knows_a();
@@ -370,6 +382,16 @@ TEST_CASE("explore_scene: a cluster holding a known object and an unknown one is
     CHECK(r.learned[0].box.min.x() == Approx(kD.lo.x() - m).margin(1e-6));
     CHECK(r.learned[0].box.max.x() == Approx(kD.hi.x() + m).margin(1e-6));
     CHECK(c0[1].points == 30 * 21);
+    // The records' frame indices: disjoint, each its own count, together every point above the table.
+    CHECK(c0[0].indices.size() == c0[0].points);
+    CHECK(c0[1].indices.size() == c0[1].points);
+    std::vector<std::size_t> all = c0[0].indices;
+    all.insert(all.end(), c0[1].indices.begin(), c0[1].indices.end());
+    std::sort(all.begin(), all.end());
+    CHECK(std::adjacent_find(all.begin(), all.end()) == all.end());
+    std::size_t above = 0;
+    for (const Vec3& p : source.frame.points) above += p.z() > 0.01;
+    CHECK(all.size() == above);
     const auto& c1 = r.steps[1].clusters;
     REQUIRE(c1.size() == 2);
     CHECK(c1[0].state == ClusterState::recognised);

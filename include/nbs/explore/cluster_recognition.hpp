@@ -67,7 +67,9 @@ enum class ClusterState : std::uint8_t {
   recognised,   ///< a database model was accepted
   modeling,     ///< modeled in this step
   unexplained,  ///< not recognised, not modeled (yet)
-  modeled,      ///< not recognised, but its centroid lies in the box of an object modeled before (not modeled again)
+  /// not recognised, or ambiguous, but its centroid lies in the box of an object the loop modeled before (not
+  /// modeled again; recognise_clusters never gives it, the loop does)
+  modeled,
   ambiguous,    ///< a database model fits, but the view leaves its pose open (Recognition::ambiguous); not modeled
 };
 
@@ -91,6 +93,7 @@ struct ClusterRecord {
   /// −1: a segmentation cluster of its own; k ≥ 0: split from segmentation cluster k (Segmentation::objects[k]),
   /// which held several objects — a recognised one and what was left of the cluster around it.
   int split_from = -1;
+  std::vector<std::size_t> indices;  ///< its points: indices into the step's overview frame, ascending
 };
 
 /// A cluster's record with its hypothesis (indices into the frame; its box is the unknown area for modeling).
@@ -134,6 +137,7 @@ template <ObjectRecogniser R>
                                    : ClusterState::unexplained;
     c.record.recognition = std::move(r);
     c.record.split_from = split_from;
+    c.record.indices = h.indices;
     c.hypothesis = std::move(h);
     out.push_back(std::move(c));
   };

@@ -128,7 +128,7 @@ struct ExplorationResult {
 /// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise_clusters` (every cluster recognised;
 /// with a PartRecogniser, a cluster that holds a known object and more is split, up to `max_parts`); the first
 /// cluster (in segmentation order) that is neither recognised, nor ambiguous (a known model whose pose the view
-/// leaves open: not modeled), nor inside the box of an object modeled before is
+/// leaves open: not modeled), nor inside the box of an object modeled before (also when ambiguous: `modeled`) is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
 /// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
 /// model and (with `resolve_ambiguous`) none is ambiguous (explained), when the budget is spent before a cluster
@@ -160,7 +160,9 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
     }
     std::vector<scene::ObjectHypothesis> hypotheses;  // parallel to rec.clusters
     for (RecognisedCluster& c : recognise_clusters(recogniser, frame, seg, setting.segmentation, setting.max_parts)) {
-      if (c.record.state == ClusterState::unexplained &&
+      // Modeled before: also when a database model fits it ambiguously (the mushroom's cap fits the plate's two
+      // placements alike): that test cannot tell a wrong model, and this object has been modeled.
+      if ((c.record.state == ClusterState::unexplained || c.record.state == ClusterState::ambiguous) &&
           std::any_of(out.learned.begin(), out.learned.end(),
                       [&](const LearnedModel& m) { return m.box.contains(c.record.centroid); }))
         c.record.state = ClusterState::modeled;
