@@ -251,9 +251,10 @@ int main(int argc, char** argv) {
       };
       std::vector<ClusterOutcome> outcomes;
       std::vector<explore::RecognisedCluster> recognised_clusters;
-      recognise_s += bench::seconds([&] {
-        recognised_clusters = explore::recognise_clusters(recogniser, f.scan, seg, seg_setting, max_parts);
-      });
+      if (seg.status == scene::SegmentationStatus::ok)  // else no clusters: every visible object is a miss
+        recognise_s += bench::seconds([&] {
+          recognised_clusters = explore::recognise_clusters(recogniser, f.scan, seg, seg_setting, max_parts);
+        });
       for (const explore::RecognisedCluster& rc : recognised_clusters) {
         ClusterOutcome c;
         std::map<int, std::size_t> votes;
@@ -261,7 +262,7 @@ int main(int argc, char** argv) {
         for (auto [l, n] : votes)
           if (l >= 0 && n > c.truth_points) c.truth = l, c.truth_points = n;
         c.r = rc.record.recognition;
-        parts_total += rc.record.split_from >= 0;
+        parts_total += rc.record.split;
         outcomes.push_back(c);
       }
       clusters_total += static_cast<int>(outcomes.size());

@@ -204,8 +204,8 @@ int run(const Options& opt) {
     std::map<int, int> votes;
     for (int l : labels) ++votes[l];
     int best = -1, n = 0;
-    for (auto [l, c] : votes)
-      if (l >= 0 && c > n) best = l, n = c;
+    for (auto [l, count] : votes)
+      if (l >= 0 && count > n) best = l, n = count;
     return best;
   };
   // Where a model's frame is in the world: the database models of the scene objects at T_world_object, learned
@@ -239,7 +239,8 @@ int run(const Options& opt) {
       o["q_h"] = c.recognition.q_h;
       o["v_h"] = c.recognition.v_h;
       o["ambiguous"] = c.recognition.ambiguous;
-      o["split_from"] = c.split_from;  // ≥ 0: split from that segmentation cluster, which held several objects
+      o["segment"] = c.segment;  // records sharing it are pieces of one segmentation cluster
+      o["split"] = c.split;      // a piece of a cluster that held a recognised object and more
       o["q_h_alternative"] = c.recognition.q_h_alternative;
       o["box_min"] = {c.box.min.x(), c.box.min.y(), c.box.min.z()};
       o["box_max"] = {c.box.max.x(), c.box.max.y(), c.box.max.z()};
@@ -269,7 +270,7 @@ int run(const Options& opt) {
                       c.recognition.model.empty() ? "-" : c.recognition.model.c_str(), c.recognition.q_h, c.recognition.v_h);
         line << buf;
       }
-      if (c.split_from >= 0) line << " (part of cluster " << c.split_from << ")";
+      if (c.split) line << " (split segment " << c.segment << ")";
       jc.push_back(o);
     }
     js["clusters"] = jc;

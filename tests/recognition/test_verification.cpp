@@ -351,7 +351,7 @@ TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box
               whole.q_h, int(whole.accepted), part.recognition.model.c_str(), part.recognition.q_h,
               part.recognition.v_h, part.points.size(), s.cluster.size(), on_step, 1e3 * et,
               angle_of(part.recognition.pose, s.truth) * 180.0 / std::numbers::pi);
-  REQUIRE_FALSE(whole.accepted);  // the box's points cost the whole cluster its q_h (Eq. 3.10: (N_m / N_c)²)
+  REQUIRE_FALSE((whole.accepted || whole.ambiguous));  // the box's points cost the whole its q_h ((N_m / N_c)²)
   CHECK(part.recognition.accepted);
   CHECK(part.recognition.model == "step");
   CHECK(et < 0.002);
@@ -382,6 +382,7 @@ TEST_CASE("PpfRecogniser::recognise_part: a small neighbour of a recognised obje
   for (int k = -1; k <= 1; ++k) (void)space.integrate(synthetic_scan(both, 0.0003, 31 + k, 0.35 * k).scan);
   explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space);
   recogniser.learn("step", step_object());
+  REQUIRE(recogniser.recognise({}, s.cluster).accepted);  // as a whole
   const explore::PartRecognition part = recogniser.recognise_part({}, s.cluster);
   // The oracle: the cluster's points more than 1 cm outside the step object's true box (the cube's, bar its side
   // within the 1 cm margin).

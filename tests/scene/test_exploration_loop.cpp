@@ -113,7 +113,8 @@ struct FakeModeler {
 };
 
 /// FakeRecogniser that also finds model "a" in the points of a cluster inside `part` (xy) when the cluster as a
-/// whole is not recognised. `bad` 1: reports an index outside the cluster; 2: a part it did not recognise.
+/// whole is not recognised. `bad` 1: reports an index outside the cluster; 2: a part it did not recognise;
+/// 3: unsorted indices; 4: no index.
 struct FakePartRecogniser : FakeRecogniser {
   Top part;
   int bad = 0;
@@ -134,6 +135,8 @@ struct FakePartRecogniser : FakeRecogniser {
       p.recognition.model = "a";
       p.recognition.accepted = bad != 2;
       if (bad == 1) p.points.back() = cluster.size();
+      if (bad == 3) std::swap(p.points.front(), p.points.back());
+      if (bad == 4) p.points.clear();
     }
     return p;
   }
@@ -372,9 +375,11 @@ TEST_CASE("explore_scene: a cluster holding a known object and an unknown one is
     REQUIRE(c0.size() == 2);
     CHECK(c0[0].state == ClusterState::recognised);
     CHECK(c0[0].recognition.model == "a");
-    CHECK(c0[0].split_from == 0);
+    CHECK(c0[0].split);
+    CHECK(c0[0].segment == 0);
     CHECK(c0[1].state == ClusterState::modeling);
-    CHECK(c0[1].split_from == 0);
+    CHECK(c0[1].split);
+    CHECK(c0[1].segment == 0);
     CHECK(r.steps[0].modeled_cluster == 1);
     // The rest's box is D's top (2 mm grid) grown by the segmentation's margin, not the whole cluster's.
     const double m = st.segmentation.box_margin_m;
@@ -399,11 +404,29 @@ TEST_CASE("explore_scene: a cluster holding a known object and an unknown one is
     CHECK(c1[1].recognition.model == r.learned[0].name);
     CHECK(r.stop == ExplorationStop::explained);
   }
+  SECTION("max_parts limits the splits: the rest is then recognised as a whole") {
+    // A, D and E touch: one cluster. Two splits allowed: recognise_part on the whole and on the rest D + E.
+    const Top kE{Vec3(-0.058, -0.02, 0.0), Vec3(-0.03, 0.02, 0.05)};
+    for (const int max_parts : {1, 3}) {
+      FakeSource three{frame_of({kA, kD, kE})};
+      FakePartRecogniser r3;
+      r3.models = knows_a().models;
+      r3.part = kA;
+      FakeModeler m3;
+      st.max_parts = max_parts;
+      st.max_steps = 1;
+      const ExplorationResult r = explore_scene(three, r3, m3, st);
+      REQUIRE(r.steps[0].clusters.size() == 2);
+      CHECK(r.steps[0].clusters[1].split);
+      CHECK(r.steps[0].clusters[1].points == (30 + 15) * 21);
+      CHECK(r3.part_calls == (max_parts == 1 ? 1 : 2));
+    }
+  }
   SECTION("max_parts = 0: one object per cluster, the whole cluster modeled") {
     st.max_parts = 0;
     const ExplorationResult r = explore_scene(source, rec, modeler, st);
     REQUIRE(r.steps[0].clusters.size() == 1);
-    CHECK(r.steps[0].clusters[0].split_from == -1);
+    CHECK_FALSE(r.steps[0].clusters[0].split);
     CHECK(r.steps[0].clusters[0].state == ClusterState::modeling);
     CHECK(rec.part_calls == 0);
   }
@@ -416,6 +439,8 @@ TEST_CASE("explore_scene: a cluster holding a known object and an unknown one is
     };
     refused(1, 3, "out of range");
     refused(2, 3, "did not recognise");
+    refused(3, 3, "unsorted");
+    refused(4, 3, "empty");
     refused(0, -1, "max_parts must be >= 0, got -1");
   }
 }

@@ -56,7 +56,7 @@ concept ObjectRecogniser = requires(R& r, const scene::ObjectHypothesis& h, cons
 };
 
 /// A recogniser that can also find a known object in part of a cluster: `recognise_part(hypothesis, cluster)`
-/// (see PartRecognition) when the cluster as a whole is not explained by one model.
+/// (see PartRecognition) — a known object touching something else, recognised or not as a whole.
 template <class R>
 concept PartRecogniser = ObjectRecogniser<R> && requires(R& r, const scene::ObjectHypothesis& h, const Scan& cluster) {
   { r.recognise_part(h, cluster) } -> std::same_as<PartRecognition>;
@@ -90,9 +90,10 @@ struct ClusterRecord {
   std::size_t points = 0;
   Recognition recognition;
   ClusterState state = ClusterState::unexplained;
-  /// −1: a segmentation cluster of its own; k ≥ 0: split from segmentation cluster k (Segmentation::objects[k]),
-  /// which held several objects — a recognised one and what was left of the cluster around it.
-  int split_from = -1;
+  /// The segmentation cluster it comes from (index into the step's Segmentation::objects): records that share it
+  /// are the pieces of one cluster that held several objects.
+  int segment = 0;
+  bool split = false;  ///< a piece of a cluster that held a recognised object and more (recognise_clusters)
   std::vector<std::size_t> indices;  ///< its points: indices into the step's overview frame, ascending
 };
 
@@ -116,10 +117,11 @@ struct RecognisedCluster {
 
 /// Recognises every cluster of `seg` (segmented from `frame` with `s`), in segmentation order; the state is
 /// recognised, ambiguous or unexplained. With a PartRecogniser and max_parts > 0, a cluster is recognised with
-/// recognise_part: when a known object explains only part of it, that part becomes a record of its own, and the
+/// recognise_part: when it returns a part (a known object in part of the cluster), that part becomes a record of its own, and the
 /// rest of the cluster, clustered again (scene::split_hypothesis), is recognised the same way — up to max_parts
-/// parts per segmentation cluster, then plain recognise. Such records carry `split_from`. Throws InvalidArgument for
-/// max_parts < 0, a segmentation without a plane, or a recogniser's part that is empty, unsorted or out of range.
+/// splits per segmentation cluster, then plain recognise. Such records have `split` set; every record names its
+/// `segment`. Throws InvalidArgument for max_parts < 0, a segmentation without a plane, or a recogniser's part that
+/// is empty, unsorted, out of range, or not recognised (neither accepted nor ambiguous).
 template <ObjectRecogniser R>
 [[nodiscard]] std::vector<RecognisedCluster> recognise_clusters(R& recogniser, const Scan& frame,
                                                                 const scene::Segmentation& seg,
@@ -127,7 +129,7 @@ template <ObjectRecogniser R>
   detail::require(max_parts >= 0, "recognise_clusters: max_parts must be >= 0, got ", max_parts);
   detail::require(seg.status == scene::SegmentationStatus::ok, "recognise_clusters: the segmentation has no plane");
   std::vector<RecognisedCluster> out;
-  const auto record = [&](scene::ObjectHypothesis h, Recognition r, int split_from) {
+  const auto record = [&](scene::ObjectHypothesis h, Recognition r, std::size_t segment, bool split) {
     RecognisedCluster c;
     c.record.box = h.box;
     c.record.centroid = h.centroid;
@@ -136,7 +138,8 @@ template <ObjectRecogniser R>
                      : r.ambiguous ? ClusterState::ambiguous
                                    : ClusterState::unexplained;
     c.record.recognition = std::move(r);
-    c.record.split_from = split_from;
+    c.record.segment = static_cast<int>(segment);
+    c.record.split = split;
     c.record.indices = h.indices;
     c.hypothesis = std::move(h);
     out.push_back(std::move(c));
@@ -148,7 +151,6 @@ template <ObjectRecogniser R>
       scene::ObjectHypothesis h = std::move(work.back());
       work.pop_back();
       const Scan cluster = sub_scan(frame, h.indices);
-      const int split_from = parts > 0 ? static_cast<int>(k) : -1;
       if constexpr (PartRecogniser<R>) {
         if (parts < max_parts) {
           PartRecognition p = recogniser.recognise_part(h, cluster);
@@ -159,7 +161,7 @@ template <ObjectRecogniser R>
                           "recognise_clusters: the recogniser's part of a cluster of ", n,
                           " points is empty, unsorted or out of range");
           if (p.points.size() == n) {
-            record(std::move(h), std::move(p.recognition), split_from);
+            record(std::move(h), std::move(p.recognition), k, parts > 0);
             continue;
           }
           detail::require(p.recognition.accepted || p.recognition.ambiguous,
@@ -170,14 +172,13 @@ template <ObjectRecogniser R>
           for (const std::size_t i : p.points) in_part[i] = 1, members.push_back(h.indices[i]);
           std::vector<scene::ObjectHypothesis> rest =
               scene::split_hypothesis(frame.points, h, [&](std::size_t i) { return in_part[i] == 0; }, seg.plane.plane, s);
-          record(scene::make_hypothesis(frame.points, members, seg.plane.plane, s), std::move(p.recognition),
-                 static_cast<int>(k));
+          record(scene::make_hypothesis(frame.points, members, seg.plane.plane, s), std::move(p.recognition), k, true);
           for (auto it = rest.rbegin(); it != rest.rend(); ++it) work.push_back(std::move(*it));
           continue;
         }
       }
       Recognition r = recogniser.recognise(h, cluster);
-      record(std::move(h), std::move(r), split_from);
+      record(std::move(h), std::move(r), k, parts > 0);
     }
   }
   return out;

@@ -106,8 +106,8 @@ struct ExplorationSetting {
   /// Take further overviews (up to max_steps) while a cluster is ambiguous, so that another view can tell its pose;
   /// false: an ambiguous cluster does not keep the loop from stopping as explained.
   bool resolve_ambiguous = true;
-  /// Objects a recogniser that models PartRecogniser may find in one segmentation cluster (touching objects form
-  /// one cluster; see recognise_clusters), ≥ 0; 0: one object per cluster, as the thesis.
+  /// Splits of one segmentation cluster (touching objects form one cluster) with a recogniser that models
+  /// PartRecogniser (see recognise_clusters), ≥ 0; 0: one object per cluster, as the thesis.
   int max_parts = 3;
 
   void validate() const {
@@ -135,7 +135,7 @@ struct ExplorationResult {
 /// could be modeled, after `max_steps` steps (also while a cluster stays ambiguous), or when a frame has no support
 /// plane. `on_step(record)` is called after each step. Throws InvalidArgument for an invalid
 /// setting, a frame with points but no profile pose, or a modeler reporting scans outside [0, its max_scans], and
-/// what the source, recogniser or modeler throw.
+/// what recognise_clusters, the source, recogniser or modeler throw.
 template <OverviewSource Source, ObjectRecogniser Recogniser, ObjectModeler Modeler, class OnStep>
 ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler& modeler,
                                 const ExplorationSetting& setting, OnStep&& on_step) {
@@ -299,24 +299,27 @@ public:
     return recognise_points(cluster, nullptr);
   }
 
-  /// recognise(); if the cluster as a whole is accepted or ambiguous, the part is the cluster's points inside the
-  /// model's box at its pose (grown by part_margin_m) when at least part_min_points lie outside it (a neighbour
-  /// touching a recognised object), else the whole. If not: for the best hypothesis (after ICP) of each of the
-  /// `part_models` best models by q_h, the crop to that model's box at that pose — if at least part_min_points and
-  /// not all — is recognised on its own; the first crop recognised (accepted or ambiguous) is the part: a known
-  /// object touching something else. Else the whole. part_models = 0: always the whole.
+  /// recognise(); if the cluster as a whole is accepted, the part is the cluster's points inside the model's box at
+  /// its pose (grown by part_margin_m) when at least part_min_points lie inside and outside it (a neighbour touching
+  /// a recognised object), else the whole. If it is neither accepted nor ambiguous: for the best hypothesis (after
+  /// ICP) of each of the `part_models` best models by q_h, the crop to that model's box at that pose — if at least
+  /// part_min_points and not all — is recognised on its own; the first crop recognised (accepted or ambiguous) as
+  /// that same model is the part: a known object touching something else. Else the whole (also for an ambiguous
+  /// whole: its pose, and so its box, is open). part_models = 0: always the whole.
   [[nodiscard]] PartRecognition recognise_part(const scene::ObjectHypothesis&, const Scan& cluster) {
     std::vector<ModelBest> per_model;
     PartRecognition out;
     out.recognition = recognise_points(cluster, &per_model);
     out.points.resize(cluster.size());
     std::iota(out.points.begin(), out.points.end(), std::size_t{0});
-    if (setting_.part_models == 0) return out;
-    if (out.recognition.accepted || out.recognition.ambiguous) {
-      // Recognised as a whole: the part is its box's crop if at least part_min_points are left outside it.
-      const std::size_t k = entry_index(out.recognition.model);
-      std::vector<std::size_t> crop = crop_to_model(cluster, entries_[k], out.recognition.pose);
-      if (!crop.empty() && cluster.size() - crop.size() >= setting_.part_min_points) out.points = std::move(crop);
+    if (setting_.part_models == 0 || out.recognition.ambiguous) return out;
+    const auto big_enough = [&](std::size_t n) { return n >= setting_.part_min_points; };
+    if (out.recognition.accepted) {
+      // The recognised model is the first with the largest q_h (as recognise_points chose it), at the same pose.
+      const ModelBest& best = *std::max_element(per_model.begin(), per_model.end(),
+                                                [](const ModelBest& a, const ModelBest& b) { return a.q_h < b.q_h; });
+      std::vector<std::size_t> crop = crop_to_model(cluster, entries_[best.model], out.recognition.pose);
+      if (big_enough(crop.size()) && big_enough(cluster.size() - crop.size())) out.points = std::move(crop);
       return out;
     }
     std::stable_sort(per_model.begin(), per_model.end(),
@@ -324,9 +327,9 @@ public:
     per_model.resize(std::min(per_model.size(), setting_.part_models));
     for (const ModelBest& m : per_model) {
       std::vector<std::size_t> crop = crop_to_model(cluster, entries_[m.model], m.pose);
-      if (crop.size() < setting_.part_min_points || crop.size() == cluster.size()) continue;
+      if (!big_enough(crop.size()) || crop.size() == cluster.size()) continue;
       Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
-      if (!(r.accepted || r.ambiguous)) continue;
+      if (!(r.accepted || r.ambiguous) || r.model != entries_[m.model].name) continue;
       out.recognition = std::move(r);
       out.points = std::move(crop);
       return out;
@@ -358,12 +361,6 @@ private:
     for (std::size_t i = 0; i < cluster.size(); ++i)
       if (grown.contains(t_mw * cluster.points[i])) crop.push_back(i);
     return crop;
-  }
-
-  [[nodiscard]] std::size_t entry_index(const std::string& name) const {
-    const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.name == name; });
-    nbs::detail::require(it != entries_.end(), "PpfRecogniser: no model named '", name, "'");
-    return static_cast<std::size_t>(it - entries_.begin());
   }
 
   /// The best hypothesis of one database model (entries_[model]) on a cluster, after ICP.
