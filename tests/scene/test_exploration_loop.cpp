@@ -45,10 +45,12 @@ Scan frame_of(const std::vector<Top>& tops) {
 struct FakeSource {
   Scan frame;
   int calls = 0;
+  Scan later{};        ///< the frame from step switch_at on (if ≥ 0)
+  int switch_at = -1;
   Scan overview(int step) {
     CHECK(step == calls);
     ++calls;
-    return frame;
+    return switch_at >= 0 && step >= switch_at ? later : frame;
   }
 };
 
@@ -117,6 +119,7 @@ struct FakeModeler {
 /// 3: unsorted indices; 4: no index.
 struct FakePartRecogniser : FakeRecogniser {
   Top part;
+  std::string part_model = "a";
   int bad = 0;
   int part_calls = 0;
   PartRecognition recognise_part(const scene::ObjectHypothesis& h, const Scan& cluster) {
@@ -132,7 +135,7 @@ struct FakePartRecogniser : FakeRecogniser {
       p.points.resize(cluster.size());
       std::iota(p.points.begin(), p.points.end(), std::size_t{0});
     } else if (p.points.size() < cluster.size()) {
-      p.recognition.model = "a";
+      p.recognition.model = part_model;
       p.recognition.accepted = bad != 2;
       if (bad == 1) p.points.back() = cluster.size();
       if (bad == 3) std::swap(p.points.front(), p.points.back());
@@ -443,4 +446,30 @@ TEST_CASE("explore_scene: a cluster holding a known object and an unknown one is
     refused(4, 3, "empty");
     refused(0, -1, "max_parts must be >= 0, got -1");
   }
+}
+
+TEST_CASE("explore_scene: the piece a learned (partial) model leaves of its cluster is not modeled again",
+          "[scene][explore]") {
+  // Step 0 shows D alone: modeled and learned as object_1 (its box). From step 1 on F touches D (one cluster); the
+  // recogniser finds object_1 in D's part, and the piece left (F) counts as the rest of the learned object.
+  const Top kD{Vec3(-0.118, -0.02, 0.0), Vec3(-0.06, 0.02, 0.05)};
+  const Top kF{Vec3(-0.058, -0.02, 0.0), Vec3(-0.03, 0.02, 0.05)};
+  FakeSource source{frame_of({kD})};
+  source.later = frame_of({kD, kF});
+  source.switch_at = 1;
+  FakePartRecogniser rec;
+  rec.part = kD;
+  rec.part_model = "object_1";
+  FakeModeler modeler;
+  const ExplorationResult r = explore_scene(source, rec, modeler, ExplorationSetting{});
+  REQUIRE(r.learned.size() == 1);
+  REQUIRE(r.steps.size() == 2);
+  const auto& c1 = r.steps[1].clusters;
+  REQUIRE(c1.size() == 2);
+  CHECK(c1[0].recognition.model == "object_1");
+  CHECK(c1[0].state == ClusterState::recognised);
+  CHECK(c1[1].split);
+  CHECK(c1[1].state == ClusterState::modeled);
+  CHECK(modeler.budgets.size() == 1);
+  CHECK(r.stop == ExplorationStop::explained);
 }

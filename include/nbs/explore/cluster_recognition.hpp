@@ -67,8 +67,8 @@ enum class ClusterState : std::uint8_t {
   recognised,   ///< a database model was accepted
   modeling,     ///< modeled in this step
   unexplained,  ///< not recognised, not modeled (yet)
-  /// not recognised, or ambiguous, but its centroid lies in the box of an object the loop modeled before (not
-  /// modeled again; recognise_clusters never gives it, the loop does)
+  /// not recognised, or ambiguous, but its centroid lies in the box of an object the loop modeled before, or it is
+  /// a split piece of a cluster where such an object was recognised (not modeled again; only the loop gives it)
   modeled,
   ambiguous,    ///< a database model fits, but the view leaves its pose open (Recognition::ambiguous); not modeled
 };

@@ -128,7 +128,9 @@ struct ExplorationResult {
 /// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise_clusters` (every cluster recognised;
 /// with a PartRecogniser, a cluster that holds a known object and more is split, up to `max_parts`); the first
 /// cluster (in segmentation order) that is neither recognised, nor ambiguous (a known model whose pose the view
-/// leaves open: not modeled), nor inside the box of an object modeled before (also when ambiguous: `modeled`) is
+/// leaves open: not modeled), nor inside the box of an object modeled before (also when ambiguous: `modeled`), nor
+/// a split piece of a cluster in which a model the loop learned was recognised (`modeled`: the rest of that
+/// object's partial model) is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
 /// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
 /// model and (with `resolve_ambiguous`) none is ambiguous (explained), when the budget is spent before a cluster
@@ -159,12 +161,25 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       return out;
     }
     std::vector<scene::ObjectHypothesis> hypotheses;  // parallel to rec.clusters
-    for (RecognisedCluster& c : recognise_clusters(recogniser, frame, seg, setting.segmentation, setting.max_parts)) {
+    std::vector<RecognisedCluster> recognised =
+        recognise_clusters(recogniser, frame, seg, setting.segmentation, setting.max_parts);
+    // Segments in which a model the loop learned was recognised: its model is partial (ĉ_m < 1), so the pieces of
+    // the segment it leaves are most likely the unmodeled rest of that object, not a new one.
+    std::vector<int> learned_segments;
+    for (const RecognisedCluster& c : recognised)
+      if (c.record.state == ClusterState::recognised &&
+          std::any_of(out.learned.begin(), out.learned.end(),
+                      [&](const LearnedModel& m) { return !m.name.empty() && m.name == c.record.recognition.model; }))
+        learned_segments.push_back(c.record.segment);
+    for (RecognisedCluster& c : recognised) {
+      const bool rest_of_learned =
+          c.record.split && std::find(learned_segments.begin(), learned_segments.end(), c.record.segment) !=
+                                learned_segments.end();
       // Modeled before: also when a database model fits it ambiguously (the mushroom's cap fits the plate's two
       // placements alike): that test cannot tell a wrong model, and this object has been modeled.
       if ((c.record.state == ClusterState::unexplained || c.record.state == ClusterState::ambiguous) &&
-          std::any_of(out.learned.begin(), out.learned.end(),
-                      [&](const LearnedModel& m) { return m.box.contains(c.record.centroid); }))
+          (rest_of_learned || std::any_of(out.learned.begin(), out.learned.end(),
+                                          [&](const LearnedModel& m) { return m.box.contains(c.record.centroid); })))
         c.record.state = ClusterState::modeled;
       rec.clusters.push_back(std::move(c.record));
       hypotheses.push_back(std::move(c.hypothesis));
