@@ -327,24 +327,45 @@ TEST_CASE("PpfRecogniser: a mug with its handle hidden is ambiguous (another tur
   CHECK_THROWS_WITH(bad.validate(), nbs_test::Contains("ambiguity_margin"));
 }
 
+namespace {
+
+/// The step object (in the database) and `neighbour` (not in it) 2 mm beside it, scanned as one (noise seed
+/// `seed`), with a voxel space of three more views of them (seeds space_seed − 1 … + 1) for v_h.
+struct TouchingScan {
+  SyntheticScan s;
+  ProbabilisticVoxelSpace<> space{0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.3, 0.25, 0.25)}};
+  TouchingScan(const IndexedMesh& neighbour, std::uint64_t seed, std::uint64_t space_seed) {
+    IndexedMesh both = step_object();
+    append(both, neighbour);
+    s = synthetic_scan(both, 0.0003, seed);
+    for (int k = -1; k <= 1; ++k)
+      (void)space.integrate(synthetic_scan(both, 0.0003, space_seed - 1 + static_cast<std::uint64_t>(k + 1), 0.35 * k).scan);
+  }
+  /// The cluster's points in the step object's true box grown by margin_m.
+  [[nodiscard]] std::size_t in_step_box(double margin_m) const {
+    const Aabb b = box_of(step_object());
+    const Aabb grown{b.min - Vec3::Constant(margin_m), b.max + Vec3::Constant(margin_m)};
+    std::size_t n = 0;
+    for (const Vec3& p : s.cluster.points) n += grown.contains(s.truth.inverse() * p);
+    return n;
+  }
+};
+
+}  // namespace
+
 TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box is found in part of the cluster",
           "[recognition][parts]") {
   nbs_test::TempDir dir("nbs_ppf_part_");
   ModelDatabase db = ModelDatabase::create(dir.path / "db");
-  // The step object (in the database) and, 2 mm beside it, a larger box (not in it): one cluster of both.
-  IndexedMesh both = step_object();
-  append(both, box_mesh(Vec3(0.062, -0.09, 0.0), Vec3(0.2, 0.09, 0.12)));
-  const SyntheticScan s = synthetic_scan(both, 0.0003, 3);
-  ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.3, 0.25, 0.25)});
-  for (int k = -1; k <= 1; ++k) (void)space.integrate(synthetic_scan(both, 0.0003, 21 + k, 0.35 * k).scan);
+  // A larger box 2 mm beside the step object: one cluster of both.
+  const TouchingScan t(box_mesh(Vec3(0.062, -0.09, 0.0), Vec3(0.2, 0.09, 0.12)), 3, 21);
+  const SyntheticScan& s = t.s;
+  const ProbabilisticVoxelSpace<>& space = t.space;
   explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space);
   recogniser.learn("step", step_object());
   const explore::Recognition whole = recogniser.recognise({}, s.cluster);
   const explore::PartRecognition part = recogniser.recognise_part({}, s.cluster);
-  // The cluster's points on the step object (in its true box, 1 mm grown).
-  const Aabb step_box = box_of(step_object());
-  std::size_t on_step = 0;
-  for (const Vec3& p : s.cluster.points) on_step += Aabb{step_box.min - Vec3::Constant(0.001), step_box.max + Vec3::Constant(0.001)}.contains(s.truth.inverse() * p);
+  const std::size_t on_step = t.in_step_box(0.001);  // the cluster's points on the step object
   const double et = (part.recognition.pose.translation() - s.truth.translation()).norm();
   std::printf("recognise_part: whole q_h %.3f accepted %d; part %s q_h %.3f v_h %.3f, %zu of %zu points (%zu on the "
               "object), %.2f mm, %.2f deg\n",
@@ -375,20 +396,15 @@ TEST_CASE("PpfRecogniser::recognise_part: a small neighbour of a recognised obje
   nbs_test::TempDir dir("nbs_ppf_part_small_");
   ModelDatabase db = ModelDatabase::create(dir.path / "db");
   // A 4 cm cube 2 mm beside the step object: the whole cluster is still accepted as the step object.
-  IndexedMesh both = step_object();
-  append(both, box_mesh(Vec3(0.062, -0.02, 0.0), Vec3(0.102, 0.02, 0.04)));
-  const SyntheticScan s = synthetic_scan(both, 0.0003, 4);
-  ProbabilisticVoxelSpace<> space(0.005, Aabb{Vec3(-0.2, -0.2, -0.01), Vec3(0.3, 0.25, 0.25)});
-  for (int k = -1; k <= 1; ++k) (void)space.integrate(synthetic_scan(both, 0.0003, 31 + k, 0.35 * k).scan);
-  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, space);
+  const TouchingScan t(box_mesh(Vec3(0.062, -0.02, 0.0), Vec3(0.102, 0.02, 0.04)), 4, 31);
+  const SyntheticScan& s = t.s;
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> recogniser(db, s.sensor, t.space);
   recogniser.learn("step", step_object());
   REQUIRE(recogniser.recognise({}, s.cluster).accepted);  // as a whole
   const explore::PartRecognition part = recogniser.recognise_part({}, s.cluster);
   // The oracle: the cluster's points more than 1 cm outside the step object's true box (the cube's, bar its side
   // within the 1 cm margin).
-  const Aabb grown{box_of(step_object()).min - Vec3::Constant(0.01), box_of(step_object()).max + Vec3::Constant(0.01)};
-  std::size_t outside = 0;
-  for (const Vec3& p : s.cluster.points) outside += !grown.contains(s.truth.inverse() * p);
+  const std::size_t outside = s.cluster.size() - t.in_step_box(0.01);
   std::printf("recognise_part, small neighbour: %s q_h %.3f accepted %d, %zu of %zu points, %zu outside the true "
               "box\n", part.recognition.model.c_str(), part.recognition.q_h, int(part.recognition.accepted),
               part.points.size(), s.cluster.size(), outside);

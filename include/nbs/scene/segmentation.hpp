@@ -83,6 +83,21 @@ struct Segmentation {
   return h;
 }
 
+/// The Euclidean clusters (s.cluster) of `subset`, the cloud points points[index[j]] = subset[j], each as a
+/// make_hypothesis of its cloud indices; ordered by smallest subset index.
+[[nodiscard]] inline std::vector<ObjectHypothesis> cluster_hypotheses(std::span<const Vec3> points,
+                                                                     std::span<const Vec3> subset,
+                                                                     std::span<const std::size_t> index,
+                                                                     const Plane& plane, const SegmentationSettings& s) {
+  std::vector<ObjectHypothesis> out;
+  for (const auto& cluster : euclidean_clusters(subset, s.cluster)) {
+    std::vector<std::size_t> members;
+    for (const std::size_t j : cluster) members.push_back(index[j]);
+    out.push_back(make_hypothesis(points, members, plane, s));
+  }
+  return out;
+}
+
 /// The points of `h` (from the cloud `points`) that `keep` says to keep, clustered again (s.cluster: clusters below
 /// min_size are dropped) into hypotheses by make_hypothesis — e.g. what a recognised object leaves of a cluster that
 /// held it and a neighbour. `keep(k)` takes the index k into h.points. Ordered by smallest point index.
@@ -95,13 +110,7 @@ template <class Keep>
   std::vector<std::size_t> index;
   for (std::size_t k = 0; k < h.points.size(); ++k)
     if (keep(k)) rest.push_back(h.points[k]), index.push_back(h.indices[k]);
-  std::vector<ObjectHypothesis> out;
-  for (const auto& cluster : euclidean_clusters(rest, s.cluster)) {
-    std::vector<std::size_t> members;
-    for (const std::size_t j : cluster) members.push_back(index[j]);
-    out.push_back(make_hypothesis(points, members, plane, s));
-  }
-  return out;
+  return cluster_hypotheses(points, rest, index, plane, s);
 }
 
 /// Segments `points` (world frame, metres). Deterministic for the settings' seed (serial). Throws InvalidArgument for
@@ -122,11 +131,7 @@ template <class Keep>
   for (std::size_t i = 0; i < points.size(); ++i)
     if (plane.signed_distance(points[i]) > clearance) above.push_back(points[i]), index.push_back(i);
   out.removed_points = points.size() - above.size();
-  for (const auto& cluster : euclidean_clusters(above, s.cluster)) {
-    std::vector<std::size_t> members;
-    for (const std::size_t j : cluster) members.push_back(index[j]);
-    out.objects.push_back(make_hypothesis(points, members, plane, s));
-  }
+  out.objects = cluster_hypotheses(points, above, index, plane, s);
   return out;
 }
 
