@@ -21,6 +21,7 @@
 #include <iostream>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -61,6 +62,8 @@ struct Options {
   unsigned threads = 0;
   double ambiguity_margin = explore::PpfRecogniserSetting{}.ambiguity_margin;  ///< PpfRecogniserSetting's
   bool accept_ambiguous = false;   ///< PpfRecogniserSetting::reject_ambiguous = false (the thesis's recogniser)
+  double min_gap = 0.03;           ///< SceneSettings::min_gap_m, m
+  std::optional<double> max_gap;   ///< SceneSettings::max_gap_m, m (close scenes)
 };
 
 /// One object of --scene: a bundled mesh in its frame (+z up, metres) and whether it is in the database at start.
@@ -147,7 +150,8 @@ int run(const Options& opt) {
   std::vector<scene::ObjectSpec> specs;
   for (const SceneObject& o : objects) specs.push_back(o.spec);
   scene::SceneSettings st;
-  st.min_gap_m = 0.03;
+  st.min_gap_m = opt.min_gap;
+  st.max_gap_m = opt.max_gap;
   st.table_size_x_m = 0.6;
   st.table_size_y_m = 0.45;
   const scene::SimulatedScene sc = scene::generate_scene(specs, st, opt.seed);
@@ -197,16 +201,35 @@ int run(const Options& opt) {
   }
 
   // Ground truth of a cluster of `frame`: the object most of its points are nearest to.
-  const auto truth_of = [&](const explore::ClusterRecord& c, const Scan& frame) {
+  // The scene objects a cluster's points hit (simulation truth): the one with most points, and every object with at
+  // least 10 % of them (two or more: one cluster holds touching objects, which the loop models as one).
+  struct Truth {
+    int best = -1;
+    std::vector<int> objects;
+  };
+  const auto truth_objects = [&](const explore::ClusterRecord& c, const Scan& frame) {
     std::vector<Vec3> pts;
     for (const std::size_t i : c.indices) pts.push_back(frame.points[i]);
     const std::vector<int> labels = overview_scanner.labels(pts, opt.threads);
-    std::map<int, int> votes;
+    std::map<int, std::size_t> votes;
     for (int l : labels) ++votes[l];
-    int best = -1, n = 0;
-    for (auto [l, count] : votes)
-      if (l >= 0 && count > n) best = l, n = count;
-    return best;
+    Truth t;
+    std::size_t n = 0;
+    for (auto [l, count] : votes) {
+      if (l < 0) continue;
+      if (count > n) t.best = l, n = count;
+      if (10 * count >= labels.size()) t.objects.push_back(l);
+    }
+    return t;
+  };
+  const auto names_of = [&](const std::vector<int>& objects) {
+    nlohmann::ordered_json names = nlohmann::json::array();
+    std::string joined;
+    for (int l : objects) {
+      names.push_back(sc.objects[std::size_t(l)].name);
+      joined += (joined.empty() ? "" : " + ") + sc.objects[std::size_t(l)].name;
+    }
+    return std::pair{names, joined};
   };
   // Where a model's frame is in the world: the database models of the scene objects at T_world_object, learned
   // models where they were modeled.
@@ -231,10 +254,13 @@ int run(const Options& opt) {
     for (std::size_t k = 0; k < rec.clusters.size(); ++k) {
       const explore::ClusterRecord& c = rec.clusters[k];
       nlohmann::ordered_json o;
-      const int truth = truth_of(c, last_frame);
+      const Truth tr = truth_objects(c, last_frame);
+      const int truth = tr.best;
+      const auto [held, held_line] = names_of(tr.objects);
       o["state"] = explore::to_string(c.state);
       o["points"] = c.points;
       o["truth_object"] = truth >= 0 ? sc.objects[std::size_t(truth)].name : std::string();
+      o["truth_objects"] = held;  // ≥ 2: the cluster holds touching objects (each ≥ 10 % of its points)
       o["model"] = c.recognition.model;
       o["q_h"] = c.recognition.q_h;
       o["v_h"] = c.recognition.v_h;
@@ -271,15 +297,19 @@ int run(const Options& opt) {
         line << buf;
       }
       if (c.split) line << " (split segment " << c.segment << ")";
+      if (tr.objects.size() > 1) line << " (holds " << held_line << ")";
       jc.push_back(o);
     }
     js["clusters"] = jc;
     if (rec.learned) {
       const explore::LearnedModel& m = *rec.learned;
-      const int truth = truth_of(rec.clusters[std::size_t(rec.modeled_cluster)], last_frame);
+      const Truth tr = truth_objects(rec.clusters[std::size_t(rec.modeled_cluster)], last_frame);
+      const int truth = tr.best;
+      const auto [held, held_line] = names_of(tr.objects);
       nlohmann::ordered_json jm;
       jm["name"] = m.name;
       jm["truth_object"] = truth >= 0 ? sc.objects[std::size_t(truth)].name : std::string();
+      jm["truth_objects"] = held;  // ≥ 2: touching objects modeled as one (c_a is against truth_object)
       jm["estimated_coverage"] = m.coverage;
       jm["scans"] = m.scans;
       jm["done"] = m.done;
@@ -302,6 +332,7 @@ int run(const Options& opt) {
                     truth >= 0 ? sc.objects[std::size_t(truth)].name.c_str() : "?", m.coverage, m.scans,
                     m.done ? "" : " (not done)", 100.0 * c_a);
       line << buf;
+      if (tr.objects.size() > 1) line << " (one model of " << held_line << ": they touch)";
       js["modeled"] = jm;
     }
     char name[64];
@@ -362,6 +393,11 @@ int main(int argc, char** argv) {
                  "refuse a recognition another placement of the model explains within this q_h margin (the cluster "
                  "is then 'ambiguous': not modeled, and further overviews are taken)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--min-gap", opt.min_gap, "least distance between the objects' footprints, m (0: they may touch)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--max-gap", opt.max_gap,
+                 "place every object after the first within this distance of a placed one, m (close scenes)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--accept-ambiguous", opt.accept_ambiguous,
                "accept the best placement even when another explains the view as well (the thesis's recogniser)");
   app.footer("Writes OUT/<model>.ply (learned models, world frame), OUT/step_NN.png and OUT/report.json.");
