@@ -163,7 +163,17 @@ int main(int argc, char** argv) {
     }
     max_parts = static_cast<int>(n);
   }
-  std::printf("parts per cluster: at most %d (recognise_clusters)\n", max_parts);
+  // NBS_BENCH_RECOGNITION_PART_QH=<q>: PpfRecogniserSetting::part_min_q_h (development runs).
+  if (const char* q = std::getenv("NBS_BENCH_RECOGNITION_PART_QH")) {
+    char* end = nullptr;
+    rs.part_min_q_h = std::strtod(q, &end);
+    if (end == q || *end != '\0' || !(rs.part_min_q_h >= 0.0 && rs.part_min_q_h <= 1.0)) {
+      std::fprintf(stderr, "NBS_BENCH_RECOGNITION_PART_QH must be in [0, 1], got '%s'\n", q);
+      return 2;
+    }
+  }
+  std::printf("splits per cluster: at most %d (recognise_clusters), a crop needs q_h >= %.2f\n", max_parts,
+              rs.part_min_q_h);
   if (rs.reject_ambiguous)
     std::printf("ambiguous hypotheses refused (q_h margin %.3f, ADD-S max >= %.2f x diagonal)\n", rs.ambiguity_margin,
                 rs.ambiguity_distance);

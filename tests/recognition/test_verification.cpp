@@ -375,6 +375,7 @@ TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box
   REQUIRE_FALSE((whole.accepted || whole.ambiguous));  // the box's points cost the whole its q_h ((N_m / N_c)²)
   CHECK(part.recognition.accepted);
   CHECK(part.recognition.model == "step");
+  CHECK(part.recognition.q_h >= explore::PpfRecogniserSetting{}.part_min_q_h);
   CHECK(et < 0.002);
   CHECK(angle_of(part.recognition.pose, s.truth) < 2.0 * std::numbers::pi / 180.0);
   CHECK(std::is_sorted(part.points.begin(), part.points.end()));
@@ -387,8 +388,18 @@ TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box
   const explore::PartRecognition p0 = plain.recognise_part({}, s.cluster);
   CHECK(p0.points.size() == s.cluster.size());
   CHECK_FALSE(p0.recognition.accepted);
+  // A crop must rate q_h >= part_min_q_h (this one rates about 0.6).
+  explore::PpfRecogniserSetting strict;
+  strict.part_min_q_h = 0.9;
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> picky(db, s.sensor, space, strict);
+  const explore::PartRecognition p9 = picky.recognise_part({}, s.cluster);
+  CHECK(p9.points.size() == s.cluster.size());
+  CHECK_FALSE(p9.recognition.accepted);
   none.part_min_points = 2;
   CHECK_THROWS_WITH(none.validate(), nbs_test::Contains("part_min_points must be >= 3, got 2"));
+  none = {};
+  none.part_min_q_h = 1.5;
+  CHECK_THROWS_WITH(none.validate(), nbs_test::Contains("part_min_q_h must be in [0, 1], got 1.5"));
 }
 
 TEST_CASE("PpfRecogniser::recognise_part: a small neighbour of a recognised object is left outside the part",
@@ -412,4 +423,19 @@ TEST_CASE("PpfRecogniser::recognise_part: a small neighbour of a recognised obje
   CHECK(part.recognition.accepted);
   CHECK(part.recognition.model == "step");
   CHECK(part.points.size() + outside == s.cluster.size());
+  // The part is recognised on its own: without the cube's points against it (Eq. 3.10's (N_m / N_c)²) it rates
+  // higher than the whole.
+  const explore::Recognition whole = recogniser.recognise({}, s.cluster);
+  CHECK(part.recognition.q_h > whole.q_h);
+  // A crop that rates below part_min_q_h on its own: the whole is not accepted either (a wrong model fitting a
+  // piece of the cluster).
+  REQUIRE(part.recognition.q_h < 1.0);
+  explore::PpfRecogniserSetting strict;
+  strict.part_min_q_h = 1.0;
+  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> picky(db, s.sensor, t.space, strict);
+  REQUIRE(picky.recognise({}, s.cluster).accepted);
+  const explore::PartRecognition refused = picky.recognise_part({}, s.cluster);
+  CHECK_FALSE(refused.recognition.accepted);
+  CHECK(refused.recognition.model == "step");
+  CHECK(refused.points.size() == s.cluster.size());
 }

@@ -266,6 +266,10 @@ struct PpfRecogniserSetting {
   std::size_t part_models = 2;
   double part_margin_m = 0.01;              ///< the crop: the model's box at the hypothesis pose grown by this, ≥ 0
   std::size_t part_min_points = 50;         ///< least points of a crop, ≥ 3
+  /// least q_h of a crop recognised on its own, in [0, 1]. A crop is more easily explained by a wrong model than a
+  /// whole cluster (the mushroom's cap as the plate); a whole accepted with ≥ part_min_points outside its model's
+  /// box whose crop fails this is not accepted.
+  double part_min_q_h = 0.5;
 
   void validate() const {
     model.validate();
@@ -285,6 +289,8 @@ struct PpfRecogniserSetting {
     nbs::detail::require_non_negative("PpfRecogniserSetting.part_margin_m", part_margin_m);
     nbs::detail::require(part_min_points >= 3, "PpfRecogniserSetting.part_min_points must be >= 3, got ",
                          part_min_points);
+    nbs::detail::require(part_min_q_h >= 0.0 && part_min_q_h <= 1.0,
+                         "PpfRecogniserSetting.part_min_q_h must be in [0, 1], got ", part_min_q_h);
   }
 };
 
@@ -314,13 +320,14 @@ public:
     return recognise_points(cluster, nullptr);
   }
 
-  /// recognise(); if the cluster as a whole is accepted, the part is the cluster's points inside the model's box at
-  /// its pose (grown by part_margin_m) when at least part_min_points lie inside and outside it (a neighbour touching
-  /// a recognised object), else the whole. If it is neither accepted nor ambiguous: for the best hypothesis (after
-  /// ICP) of each of the `part_models` best models by q_h, the crop to that model's box at that pose — if at least
-  /// part_min_points and not all — is recognised on its own; the first crop recognised (accepted or ambiguous) as
-  /// that same model is the part: a known object touching something else. Else the whole (also for an ambiguous
-  /// whole: its pose, and so its box, is open). part_models = 0: always the whole.
+  /// recognise(); if the cluster as a whole is accepted and at least part_min_points lie inside and outside the
+  /// model's box at its pose (grown by part_margin_m; a neighbour touching a recognised object), that crop is
+  /// recognised on its own: accepted as the same model with q_h ≥ part_min_q_h, it is the part; else the whole is
+  /// returned not accepted. If the whole is neither accepted nor ambiguous: for the best hypothesis (after ICP) of
+  /// each of the `part_models` best models by q_h, the crop to that model's box at that pose — if at least
+  /// part_min_points and not all — is recognised on its own; the first crop accepted as that same model with
+  /// q_h ≥ part_min_q_h is the part: a known object touching something else. Else the whole (also for an ambiguous
+  /// whole: its pose, and so its box, is open). part_models = 0: recognise() and the whole.
   [[nodiscard]] PartRecognition recognise_part(const scene::ObjectHypothesis&, const Scan& cluster) {
     std::vector<ModelBest> per_model;
     PartRecognition out;
@@ -334,7 +341,16 @@ public:
       const ModelBest& best = *std::max_element(per_model.begin(), per_model.end(),
                                                 [](const ModelBest& a, const ModelBest& b) { return a.q_h < b.q_h; });
       std::vector<std::size_t> crop = crop_to_model(cluster, entries_[best.model], out.recognition.pose);
-      if (big_enough(crop.size()) && big_enough(cluster.size() - crop.size())) out.points = std::move(crop);
+      if (!big_enough(crop.size()) || !big_enough(cluster.size() - crop.size())) return out;
+      // The model explains only a part: that part must be the model on its own too, else the whole's low q_h was
+      // a wrong model fitting a piece (the mushroom's cap as the plate) and the cluster is not recognised.
+      Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
+      if (!r.accepted || r.q_h < setting_.part_min_q_h || r.model != out.recognition.model) {
+        out.recognition.accepted = false;
+        return out;
+      }
+      out.recognition = std::move(r);
+      out.points = std::move(crop);
       return out;
     }
     std::stable_sort(per_model.begin(), per_model.end(),
@@ -344,7 +360,7 @@ public:
       std::vector<std::size_t> crop = crop_to_model(cluster, entries_[m.model], m.pose);
       if (!big_enough(crop.size()) || crop.size() == cluster.size()) continue;
       Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
-      if (!(r.accepted || r.ambiguous) || r.model != entries_[m.model].name) continue;
+      if (!r.accepted || r.q_h < setting_.part_min_q_h || r.model != entries_[m.model].name) continue;
       out.recognition = std::move(r);
       out.points = std::move(crop);
       return out;
