@@ -396,7 +396,7 @@ int main(int argc, char** argv) {
   app.add_option("--min-gap", opt.min_gap, "least distance between the objects' footprints, m (0: they may touch)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--max-gap", opt.max_gap,
-                 "place every object after the first within this distance of a placed one, m (close scenes)")
+                 "place every object after the first within this distance of a placed one, m, >= --min-gap (close scenes)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--accept-ambiguous", opt.accept_ambiguous,
                "accept the best placement even when another explains the view as well (the thesis's recogniser)");

@@ -29,7 +29,9 @@ struct Recognition {
   Pose pose = Pose::Identity();    ///< T_WM (model frame → world)
   double q_h = 0.0;                ///< Eq. 3.10, in [0, 1]
   double v_h = 0.0;                ///< Eq. 3.11, in [0, 1]
-  bool accepted = false;           ///< q_h ≥ the recogniser's bound and v_h ≥ its bound (thesis: 0.66), not ambiguous
+  /// q_h ≥ the recogniser's bound and v_h ≥ its bound (thesis: 0.66), not ambiguous (a recogniser may refuse more:
+  /// PpfRecogniser::recognise_part a whole whose crop to the model's box is not the model on its own)
+  bool accepted = false;
   /// The data fit another placement of the same model as well (PpfRecogniserSetting::reject_ambiguous): a
   /// hypothesis that puts some of the surface elsewhere (largest nearest distance, ADD-S max, ≥ ambiguity_distance ×
   /// the model's diagonal) is valid too and rates q_h ≥ q_h − ambiguity_margin. The model is likely right; its pose

@@ -262,7 +262,7 @@ struct PpfRecogniserSetting {
   /// a turned handle moves a few percent of the surface, which the mean dilutes below any useful bound.
   double ambiguity_distance = 0.1;
   /// recognise_part: the models (best q_h first) whose best hypothesis crops a cluster that is not recognised as a
-  /// whole; 0: no parts
+  /// whole; 0: no parts (recognise_part is recognise(), no crop check of an accepted whole)
   std::size_t part_models = 2;
   double part_margin_m = 0.01;              ///< the crop: the model's box at the hypothesis pose grown by this, ≥ 0
   std::size_t part_min_points = 50;         ///< least points of a crop, ≥ 3
@@ -323,11 +323,12 @@ public:
   /// recognise(); if the cluster as a whole is accepted and at least part_min_points lie inside and outside the
   /// model's box at its pose (grown by part_margin_m; a neighbour touching a recognised object), that crop is
   /// recognised on its own: accepted as the same model with q_h ≥ part_min_q_h, it is the part; else the whole is
-  /// returned not accepted. If the whole is neither accepted nor ambiguous: for the best hypothesis (after ICP) of
-  /// each of the `part_models` best models by q_h, the crop to that model's box at that pose — if at least
-  /// part_min_points and not all — is recognised on its own; the first crop accepted as that same model with
-  /// q_h ≥ part_min_q_h is the part: a known object touching something else. Else the whole (also for an ambiguous
-  /// whole: its pose, and so its box, is open). part_models = 0: recognise() and the whole.
+  /// not accepted (a wrong model fitting a piece) and the other models are tried as below. If the whole is neither
+  /// accepted nor ambiguous: for the best hypothesis (after ICP) of each of the `part_models` best models by q_h,
+  /// the crop to that model's box at that pose — if at least part_min_points and not all — is recognised on its
+  /// own; the first crop accepted as that same model with q_h ≥ part_min_q_h is the part: a known object touching
+  /// something else. Else the whole (also for an ambiguous whole: its pose, and so its box, is open).
+  /// part_models = 0: recognise() and the whole.
   [[nodiscard]] PartRecognition recognise_part(const scene::ObjectHypothesis&, const Scan& cluster) {
     std::vector<ModelBest> per_model;
     PartRecognition out;
@@ -336,34 +337,36 @@ public:
     std::iota(out.points.begin(), out.points.end(), std::size_t{0});
     if (setting_.part_models == 0 || out.recognition.ambiguous) return out;
     const auto big_enough = [&](std::size_t n) { return n >= setting_.part_min_points; };
+    // A crop is the part when recognised on its own as the model that cropped it, with q_h ≥ part_min_q_h.
+    const auto part_of = [&](std::size_t model, std::vector<std::size_t>& crop) {
+      Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
+      if (!r.accepted || r.q_h < setting_.part_min_q_h || r.model != entries_[model].name) return false;
+      out.recognition = std::move(r);
+      out.points = std::move(crop);
+      return true;
+    };
+    std::optional<std::size_t> tried;  // the accepted whole's model, whose crop failed
     if (out.recognition.accepted) {
       // The recognised model is the first with the largest q_h (as recognise_points chose it), at the same pose.
       const ModelBest& best = *std::max_element(per_model.begin(), per_model.end(),
                                                 [](const ModelBest& a, const ModelBest& b) { return a.q_h < b.q_h; });
       std::vector<std::size_t> crop = crop_to_model(cluster, entries_[best.model], out.recognition.pose);
       if (!big_enough(crop.size()) || !big_enough(cluster.size() - crop.size())) return out;
-      // The model explains only a part: that part must be the model on its own too, else the whole's low q_h was
-      // a wrong model fitting a piece (the mushroom's cap as the plate) and the cluster is not recognised.
-      Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
-      if (!r.accepted || r.q_h < setting_.part_min_q_h || r.model != out.recognition.model) {
-        out.recognition.accepted = false;
-        return out;
-      }
-      out.recognition = std::move(r);
-      out.points = std::move(crop);
-      return out;
+      // The model explains only a part: that part must be the model on its own too, else the whole's q_h came from
+      // a wrong model fitting a piece (the mushroom's cap as the plate): not accepted; the other models' crops follow.
+      if (part_of(best.model, crop)) return out;
+      out.recognition.accepted = false;
+      tried = best.model;
     }
     std::stable_sort(per_model.begin(), per_model.end(),
                      [](const ModelBest& a, const ModelBest& b) { return a.q_h > b.q_h; });
+    if (tried)
+      std::erase_if(per_model, [&](const ModelBest& m) { return m.model == *tried; });
     per_model.resize(std::min(per_model.size(), setting_.part_models));
     for (const ModelBest& m : per_model) {
       std::vector<std::size_t> crop = crop_to_model(cluster, entries_[m.model], m.pose);
       if (!big_enough(crop.size()) || crop.size() == cluster.size()) continue;
-      Recognition r = recognise_points(sub_scan(cluster, crop), nullptr);
-      if (!r.accepted || r.q_h < setting_.part_min_q_h || r.model != entries_[m.model].name) continue;
-      out.recognition = std::move(r);
-      out.points = std::move(crop);
-      return out;
+      if (part_of(m.model, crop)) return out;
     }
     return out;
   }
