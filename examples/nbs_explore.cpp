@@ -251,10 +251,12 @@ int run(const Options& opt) {
     std::snprintf(buf, sizeof buf, "%4d  (%6.3f, %6.3f, %5.3f)  %8zu ", rec.step, v.x(), v.y(), v.z(), rec.clusters.size());
     line << buf;
     nlohmann::ordered_json jc = nlohmann::json::array();
+    std::vector<Truth> truths;  // per cluster, once: the modeled cluster's too
+    for (const explore::ClusterRecord& c : rec.clusters) truths.push_back(truth_objects(c, last_frame));
     for (std::size_t k = 0; k < rec.clusters.size(); ++k) {
       const explore::ClusterRecord& c = rec.clusters[k];
       nlohmann::ordered_json o;
-      const Truth tr = truth_objects(c, last_frame);
+      const Truth& tr = truths[k];
       const int truth = tr.best;
       const auto [held, held_line] = names_of(tr.objects);
       o["state"] = explore::to_string(c.state);
@@ -303,7 +305,7 @@ int run(const Options& opt) {
     js["clusters"] = jc;
     if (rec.learned) {
       const explore::LearnedModel& m = *rec.learned;
-      const Truth tr = truth_objects(rec.clusters[std::size_t(rec.modeled_cluster)], last_frame);
+      const Truth& tr = truths[std::size_t(rec.modeled_cluster)];
       const int truth = tr.best;
       const auto [held, held_line] = names_of(tr.objects);
       nlohmann::ordered_json jm;

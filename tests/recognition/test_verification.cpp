@@ -380,18 +380,20 @@ TEST_CASE("PpfRecogniser::recognise_part: a known object touching an unknown box
   CHECK(std::is_sorted(part.points.begin(), part.points.end()));
   CHECK(part.points.size() >= on_step);
   CHECK(part.points.size() < s.cluster.size());
+  const auto part_with = [&](const explore::PpfRecogniserSetting& setting) {
+    explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> r(db, s.sensor, space, setting);
+    return r.recognise_part({}, s.cluster);
+  };
   // Without part models the whole cluster is returned, not recognised.
   explore::PpfRecogniserSetting none;
   none.part_models = 0;
-  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> plain(db, s.sensor, space, none);
-  const explore::PartRecognition p0 = plain.recognise_part({}, s.cluster);
+  const explore::PartRecognition p0 = part_with(none);
   CHECK(p0.points.size() == s.cluster.size());
   CHECK_FALSE(p0.recognition.accepted);
   // A crop must rate q_h >= part_min_q_h (this one rates about 0.6).
   explore::PpfRecogniserSetting strict;
   strict.part_min_q_h = 0.9;
-  explore::PpfRecogniser<BruteForceRayCaster, ProbabilisticVoxelSpace<>> picky(db, s.sensor, space, strict);
-  const explore::PartRecognition p9 = picky.recognise_part({}, s.cluster);
+  const explore::PartRecognition p9 = part_with(strict);
   CHECK(p9.points.size() == s.cluster.size());
   CHECK_FALSE(p9.recognition.accepted);
   none.part_min_points = 2;
