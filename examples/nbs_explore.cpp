@@ -64,6 +64,7 @@ struct Options {
   bool accept_ambiguous = false;   ///< PpfRecogniserSetting::reject_ambiguous = false (the thesis's recogniser)
   double min_gap = 0.03;           ///< SceneSettings::min_gap_m, m
   std::optional<double> max_gap;   ///< SceneSettings::max_gap_m, m (close scenes)
+  bool blind_planner = false;      ///< NbsObjectModeler::predict_occlusion = false (the thesis's planner)
 };
 
 /// One object of --scene: a bundled mesh in its frame (+z up, metres) and whether it is in the database at start.
@@ -189,7 +190,7 @@ int run(const Options& opt) {
   ring.target = Vec3(0.0, 0.0, st.table_height_m + 0.05);
   explore::OverviewRing<embree::SimulatedScanner, Space> source{&overview_scanner.scanner(), xtion, &space, ring, opt.seed};
   explore::NbsObjectModeler<embree::SimulatedScanner, Space> modeler{&model_scanner, &space, opt.object_scans, opt.seed,
-                                                                     opt.threads, {}, 0};
+                                                                     opt.threads, {}, 0, !opt.blind_planner};
   explore::ExplorationSetting es;
   es.scan_budget = opt.scans;
   es.max_steps = opt.steps;
@@ -360,6 +361,7 @@ int run(const Options& opt) {
   nlohmann::ordered_json j;
   j["scene"] = opt.scene;
   j["seed"] = opt.seed;
+  j["predict_occlusion"] = !opt.blind_planner;
   j["db"] = db_dir;
   nlohmann::ordered_json jo = nlohmann::json::array();
   for (std::size_t k = 0; k < sc.objects.size(); ++k) {
@@ -402,6 +404,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--accept-ambiguous", opt.accept_ambiguous,
                "accept the best placement even when another explains the view as well (the thesis's recogniser)");
+  app.add_flag("--blind-planner", opt.blind_planner,
+               "the modeling planner does not predict occlusion by the other objects (sees only its box, as the thesis's)");
   app.footer("Writes OUT/<model>.ply (learned models, world frame), OUT/step_NN.png and OUT/report.json.");
   CLI11_PARSE(app, argc, argv);
   try {

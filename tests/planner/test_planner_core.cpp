@@ -435,3 +435,24 @@ TEST_CASE("loop: SEE replaces its candidate set each step and flies to the neare
   CHECK(checked >= 2);
   CHECK(result.records.size() >= 3);
 }
+
+TEST_CASE("planner: an occluder hiding the half space of the chosen view moves the choice out of it", "[planner][occluder]") {
+  const nbs::test::SphereOnPedestal sphere;
+  const auto after_one_scan = [&](const nbs::PlannerSetting& s) {
+    nbs::NbsPlanner<> p({}, light_lsp(), sphere_box(), s);
+    REQUIRE(p.integrate(sphere.scan(p.first_scan(5), p.sensor(), 1)).meshed > 0);
+    return p.next_best_scan();
+  };
+  const nbs::PlanResult free = after_one_scan(setting(2));
+  REQUIRE(free.ok());
+  const Vec3 c = sphere.center;
+  const Vec3 side = (free.path().start().position() - c).normalized();
+  // Every beam from that side of the plane through the centre is blocked at its origin.
+  nbs::PlannerSetting s = setting(2);
+  s.occluder = [c, side](const nbs::Ray& r) { return (r.origin - c).dot(side) > 0.0 ? 0.0 : 1.0; };
+  const nbs::PlanResult hidden = after_one_scan(s);
+  REQUIRE(hidden.ok());
+  const Vec3 a = hidden.path().start().position(), b = hidden.path().end_position();
+  CHECK(std::min((a - c).dot(side), (b - c).dot(side)) <= 0.0);
+  CHECK((a - free.path().start().position()).norm() > 1e-6);
+}

@@ -69,8 +69,10 @@ struct OverviewRing {
 
 /// ObjectModeler: `NbsPlanner<>` (C_H, the DLR laser stripe profiler) over the hypothesis box, run_loop with a
 /// SimulatedDriver over `scanner` (noise seed seed + the object's number), every scan also into `space`; n_abort =
-/// min(object_scans, the budget left). The planner's own voxel space covers only the box: the neighbours occlude
-/// in the scans, but the planner does not predict their occlusion outside its box (nbs_planner has no shared space).
+/// min(object_scans, the budget left). The planner's own voxel space covers only the box; with `predict_occlusion`
+/// (default) its simulated beams are cut at the first occupied voxel of the scene's `space` outside the box
+/// (VoxelSpaceOccluder), so that it predicts which views its neighbours hide (Sec. 3.1); without, it does not (as
+/// the thesis's planner, which sees only its box).
 template <class Scanner, VoxelSpace Space>
   requires ScanSimulator<Scanner, LaserStripeProfiler>
 struct NbsObjectModeler {
@@ -81,6 +83,7 @@ struct NbsObjectModeler {
   unsigned threads = 0;  ///< candidate evaluation (0: hardware concurrency; plans do not depend on it)
   Parameters params{};
   int objects = 0;  ///< modeled so far
+  bool predict_occlusion = true;  ///< cut the planner's beams at the scene's occupied voxels outside the box
 
   ModelingResult model(const scene::ObjectHypothesis& h, int max_scans) {
     detail::require(object_scans >= 1, "NbsObjectModeler.object_scans must be >= 1, got ", object_scans);
@@ -90,6 +93,7 @@ struct NbsObjectModeler {
     PlannerSetting ps;
     ps.threads = threads > 0 ? threads : std::max(1U, std::thread::hardware_concurrency());
     ps.seed = seed;
+    if (predict_occlusion) ps.occluder = VoxelSpaceOccluder<Space>(*space, h.box);
     NbsPlanner<> planner(p, presets::dlr_lsp(), h.box, ps);
     using Driver = SimulatedDriver<Scanner, LaserStripeProfiler>;
     SpaceSharingDriver<Driver, Space> driver{Driver(*scanner, planner.sensor(), seed + static_cast<std::uint64_t>(++objects)),

@@ -356,6 +356,7 @@ public:
   [[nodiscard]] EvaluationSetting evaluation_setting() const {
     EvaluationSetting eval{setting_.threads, setting_.sampling, setting_.refine};
     eval.features = &features_;
+    eval.occluder = setting_.occluder;
     return eval;
   }
   /// Replaces the setting (validated first; throws InvalidArgument, nothing changed).

@@ -14,6 +14,7 @@
 #include "nbs/registration/registration.hpp"
 #include "nbs/robot/reachability.hpp"
 #include "nbs/space/block_flush.hpp"
+#include "nbs/utility/ray_occluder.hpp"
 
 namespace nbs {
 
@@ -155,6 +156,10 @@ struct PlannerSetting {
   /// applied to the space's backend when the planner is built. Plans are identical with and without it (tested);
   /// a backend that cannot flush (not FlushableBackend) refuses an enabled setting.
   BlockFlushSetting flush{};
+  /// Occlusion of the simulated beams by what lies outside the unknown area (ray_occluder.hpp), e.g. the other
+  /// objects of a scene (VoxelSpaceOccluder over the scene's voxel space); empty (default) = none, as in the thesis,
+  /// whose planner sees only its own box. Called concurrently by the evaluation threads.
+  RayOccluder occluder{};
 
   /// Throws InvalidArgument naming the bad field.
   void validate() const {

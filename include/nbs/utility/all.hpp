@@ -7,6 +7,7 @@
 #include "nbs/utility/evaluate_candidates.hpp"
 #include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/proximity_field.hpp"
+#include "nbs/utility/ray_occluder.hpp"
 #include "nbs/utility/selection.hpp"
 #include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"

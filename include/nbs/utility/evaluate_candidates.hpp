@@ -24,6 +24,7 @@
 #include "nbs/utility/candidate_rays.hpp"
 #include "nbs/utility/detail/key_set.hpp"
 #include "nbs/utility/detail/planning_snapshot.hpp"
+#include "nbs/utility/ray_occluder.hpp"
 #include "nbs/utility/utility_term.hpp"
 
 namespace nbs {
@@ -63,6 +64,9 @@ struct EvaluationSetting {
   /// Surface features per voxel (Sec. 4.5.1) that VoxelVisit::features points into (the planner owns them);
   /// nullptr = none (terms that need them, e.g. SurfaceQuality, then see no surface). Borrowed for the call.
   const SurfaceFeatureMap* features = nullptr;
+  /// Occlusion by what lies outside the space (ray_occluder.hpp); empty = none. Each simulated beam is cut where
+  /// the occluder says; a cut beam ends as a hit (RayEnd::hit) even if it met no occupied voxel of the space.
+  RayOccluder occluder;
 };
 
 enum class EvaluationStatus {
@@ -124,7 +128,7 @@ struct EvaluationBuffers {
 template <VoxelSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
                   const PlanningSnapshot<Space>& snapshot, const SurfaceFeatureMap* features,
-                  const RaySampling& sampling, Term& term, EvaluationBuffers& buf, double& value,
+                  const RaySampling& sampling, const RayOccluder* occluder, Term& term, EvaluationBuffers& buf, double& value,
                   std::uint64_t& ray_count, std::uint64_t& voxel_count) {
   using State = typename Space::State;
   term.begin_candidate(index);
@@ -139,8 +143,23 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
     const bool have_features = features != nullptr && features->size() > 0;
     const VoxelGrid& grid = space.grid();
     const bool first_only = fast && visits_first_only(term);
-    for (const Ray& ray : buf.rays) {
+    for (Ray& ray : buf.rays) {
       const Vec3 dir = (ray.end - ray.origin).normalized();
+      bool cut = false;
+      if (occluder) {
+        const double f = (*occluder)(ray);
+        detail::require(f >= 0.0 && f <= 1.0, "candidate ", index, ": the ray occluder returned ", f,
+                        ", not a fraction in [0, 1]");
+        if (f < 1.0) {
+          cut = true;
+          ray.end = ray.origin + f * (ray.end - ray.origin);
+          if (!(f > 0.0)) {  // occluded at its origin: nothing to cast
+            term.begin_ray();
+            term.end_ray(RayEnd{true, 0});
+            continue;
+          }
+        }
+      }
       std::uint32_t n = 0;
       const auto emit_at = [&](const VoxelKey& k, const VoxelClass& c, bool first_visit, std::uint32_t at) {
         VoxelVisit v;
@@ -190,7 +209,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
           return true;
         });
       }
-      term.end_ray(RayEnd{res.hit, res.voxels});
+      term.end_ray(RayEnd{res.hit || cut, res.voxels});
       voxel_count += res.voxels;
     }
     ray_count = buf.rays.size();
@@ -240,7 +259,8 @@ template <VoxelSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
       for (std::size_t j; (j = next.fetch_add(1, std::memory_order_relaxed)) < m;) {
         const std::size_t i = order.empty() ? j : order[j];
         try {
-          detail::evaluate_one(i, candidates[i], sensor, space, snapshot, setting.features, sampling, term, buf,
+          detail::evaluate_one(i, candidates[i], sensor, space, snapshot, setting.features, sampling,
+                               setting.occluder ? &setting.occluder : nullptr, term, buf,
                                r.values[i], r.rays[i], r.voxels[i]);
         } catch (...) {
           errors[i] = std::current_exception();
