@@ -23,7 +23,9 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -65,6 +67,7 @@ struct Options {
   double min_gap = 0.03;           ///< SceneSettings::min_gap_m, m
   std::optional<double> max_gap;   ///< SceneSettings::max_gap_m, m (close scenes)
   bool blind_planner = false;      ///< NbsObjectModeler::predict_occlusion = false (the thesis's planner)
+  bool aim = false;                ///< ExplorationSetting::aim_ambiguous: planned recognition views
 };
 
 /// One object of --scene: a bundled mesh in its frame (+z up, metres) and whether it is in the database at start.
@@ -188,12 +191,16 @@ int run(const Options& opt) {
   explore::PpfRecogniser<embree::Scene, Space> recogniser(db, xtion, space, rs);
   explore::OverviewRingSetting ring;
   ring.target = Vec3(0.0, 0.0, st.table_height_m + 0.05);
-  explore::OverviewRing<embree::SimulatedScanner, Space> source{&overview_scanner.scanner(), xtion, &space, ring, opt.seed};
+  explore::RecognitionViewSetting aim;
+  aim.threads = opt.threads > 0 ? opt.threads : std::max(1U, std::thread::hardware_concurrency());
+  explore::OverviewRing<embree::SimulatedScanner, Space> source{&overview_scanner.scanner(), xtion, &space, ring, opt.seed,
+                                                                aim, std::nullopt};
   explore::NbsObjectModeler<embree::SimulatedScanner, Space> modeler{&model_scanner, &space, opt.object_scans, opt.seed,
                                                                      opt.threads, {}, 0, !opt.blind_planner};
   explore::ExplorationSetting es;
   es.scan_budget = opt.scans;
   es.max_steps = opt.steps;
+  es.aim_ambiguous = opt.aim;
   for (int run = 1;; ++run) {  // a prefix no model in the database has (a database reused across runs)
     es.name_prefix = "run" + std::to_string(run) + "_object_";
     if (std::none_of(db.models().begin(), db.models().end(),
@@ -247,10 +254,21 @@ int run(const Options& opt) {
     const Vec3 v = rec.view.translation();
     js["view"] = {v.x(), v.y(), v.z()};
     js["frame_points"] = rec.frame_points;
+    js["aimed_at"] = rec.aimed_at;
     std::ostringstream line;
     char buf[256];
     std::snprintf(buf, sizeof buf, "%4d  (%6.3f, %6.3f, %5.3f)  %8zu ", rec.step, v.x(), v.y(), v.z(), rec.clusters.size());
     line << buf;
+    if (source.last_aimed) {
+      const explore::RecognitionView& a = *source.last_aimed;
+      js["aimed_view"] = {{"azimuth_deg", a.azimuth_rad * 180.0 / std::numbers::pi},
+                          {"elevation_deg", a.elevation_rad * 180.0 / std::numbers::pi},
+                          {"unobserved_voxels", a.score}};
+      std::snprintf(buf, sizeof buf, "[aimed at %d ambiguous: az %.0f el %.0f deg, %.0f unobserved voxels]  ",
+                    rec.aimed_at, a.azimuth_rad * 180.0 / std::numbers::pi, a.elevation_rad * 180.0 / std::numbers::pi,
+                    a.score);
+      line << buf;
+    }
     nlohmann::ordered_json jc = nlohmann::json::array();
     std::vector<Truth> truths;  // per cluster, once: the modeled cluster's too
     for (const explore::ClusterRecord& c : rec.clusters) truths.push_back(truth_objects(c, last_frame));
@@ -270,6 +288,7 @@ int run(const Options& opt) {
       o["ambiguous"] = c.recognition.ambiguous;
       o["segment"] = c.segment;  // records sharing it are pieces of one segmentation cluster
       o["split"] = c.split;      // a piece of a cluster that held a recognised object and more
+      o["remembered"] = c.remembered;  // ambiguous in this view, recognised at an earlier step's placement
       o["q_h_alternative"] = c.recognition.q_h_alternative;
       o["box_min"] = {c.box.min.x(), c.box.min.y(), c.box.min.z()};
       o["box_max"] = {c.box.max.x(), c.box.max.y(), c.box.max.z()};
@@ -299,6 +318,7 @@ int run(const Options& opt) {
                       c.recognition.model.empty() ? "-" : c.recognition.model.c_str(), c.recognition.q_h, c.recognition.v_h);
         line << buf;
       }
+      if (c.remembered) line << " (remembered)";
       if (c.split) line << " (split segment " << c.segment << ")";
       if (tr.objects.size() > 1) line << " (holds " << held_line << ")";
       jc.push_back(o);
@@ -353,6 +373,10 @@ int run(const Options& opt) {
       *last = s->overview(step);
       return *last;
     }
+    Scan overview(int step, std::span<const Aabb> boxes) {
+      *last = s->overview(step, boxes);
+      return *last;
+    }
   } remember{&source, &last_frame};
   const explore::ExplorationResult r = explore::explore_scene(remember, recogniser, modeler, es, record);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -362,6 +386,7 @@ int run(const Options& opt) {
   j["scene"] = opt.scene;
   j["seed"] = opt.seed;
   j["predict_occlusion"] = !opt.blind_planner;
+  j["planned_recognition_views"] = opt.aim;
   j["db"] = db_dir;
   nlohmann::ordered_json jo = nlohmann::json::array();
   for (std::size_t k = 0; k < sc.objects.size(); ++k) {
@@ -404,6 +429,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--accept-ambiguous", opt.accept_ambiguous,
                "accept the best placement even when another explains the view as well (the thesis's recogniser)");
+  app.add_flag("--aim", opt.aim,
+               "aim the overview after a step with ambiguous clusters at them (planned recognition views; else the ring)");
   app.add_flag("--blind-planner", opt.blind_planner,
                "the modeling planner does not predict occlusion by the other objects (sees only its box, as the thesis's)");
   app.footer("Writes OUT/<model>.ply (learned models, world frame), OUT/step_NN.png and OUT/report.json.");

@@ -3,6 +3,7 @@
 // user-written term, on one random voxel world.
 #include "utility_term_conformance.hpp"
 
+#include "nbs/explore/recognition_view.hpp"
 #include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
@@ -122,6 +123,16 @@ TEST_CASE("UtilityTerm conformance: peer terms of Delmerico et al. 2018", "[conf
 
 TEST_CASE("UtilityTerm conformance: TermSet and a user-written term", "[conformance][utility]") {
   using nbs::conformance::check_utility_term_conformance;
+  // The recognition-view score (explore/recognition_view.hpp): distinct unobserved voxels in the boxes.
+  const int n = RandomVoxelWorld::n;
+  const std::vector<nbs::KeyBox> boxes{{{0, 0, 0}, {n / 2, n - 1, n - 1}}, {{0, 0, 0}, {n - 1, 1, 1}}};
+  check_utility_term_conformance(nbs::explore::UnobservedInBoxes{boxes}, world(), [&](std::size_t, const CandidateStream& s) {
+    double count = 0.0;
+    for (const auto& r : s)
+      for (const auto& v : r.visits)
+        if (v.first_visit && !v.observed && (boxes[0].contains(v.key) || boxes[1].contains(v.key))) ++count;
+    return count;
+  });
   check_utility_term_conformance(HitRays{}, world(), [](std::size_t, const CandidateStream& s) {
     double hits = 0.0;
     for (const auto& r : s) hits += r.end.hit ? 1.0 : 0.0;

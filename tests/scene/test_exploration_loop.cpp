@@ -54,6 +54,17 @@ struct FakeSource {
   }
 };
 
+/// FakeSource that can aim: records the boxes each aimed overview was asked to show.
+struct FakeAimedSource : FakeSource {
+  std::vector<std::vector<Aabb>> aimed;  ///< per call of overview(step, boxes)
+  using FakeSource::overview;
+  Scan overview(int step, std::span<const Aabb> boxes) {
+    aimed.emplace_back(boxes.begin(), boxes.end());
+    return overview(step);
+  }
+};
+static_assert(AimedOverviewSource<FakeAimedSource> && !AimedOverviewSource<FakeSource>);
+
 Vec3 extent_of(std::span<const Vec3> pts) {
   Aabb b;
   for (const Vec3& p : pts) b.extend(p);
@@ -72,6 +83,8 @@ struct FakeRecogniser {
   int ambiguous_matches = 0;
   int matches = 0;
   bool learned_ambiguous = false;  ///< report every match of a learned model as ambiguous
+  int ambiguous_from = -1;  ///< ≥ 0: the first model's matches from this one on are ambiguous, posed 5 cm off
+  int first_matches = 0;
   Recognition recognise(const scene::ObjectHypothesis& h, const Scan& cluster) {
     CHECK(cluster.size() == h.points.size());
     Recognition r;
@@ -84,6 +97,10 @@ struct FakeRecogniser {
         r.v_h = 0.8;
         r.ambiguous = (&m == &models.front() && (ambiguous_matches < 0 || matches++ < ambiguous_matches)) ||
                       (&m != &models.front() && learned_ambiguous);
+        if (&m == &models.front() && ambiguous_from >= 0 && first_matches++ >= ambiguous_from) {
+          r.ambiguous = true;
+          r.pose.translation().x() += 0.05;
+        }
         r.accepted = !r.ambiguous;
       }
     return r;
@@ -472,4 +489,76 @@ TEST_CASE("explore_scene: the piece a learned (partial) model leaves of its clus
   CHECK(c1[1].state == ClusterState::modeled);
   CHECK(modeler.budgets.size() == 1);
   CHECK(r.stop == ExplorationStop::explained);
+}
+
+TEST_CASE("explore_scene: an aimed source is asked to show the last step's ambiguous boxes", "[scene][explore][aim]") {
+  ExplorationSetting st;
+  st.max_steps = 5;
+  st.aim_ambiguous = true;
+  FakeModeler modeler;
+  FakeAimedSource source{{frame_of({kA, kB})}, {}};
+  FakeRecogniser rec = knows_a();
+  rec.ambiguous_matches = 2;  // A is ambiguous in steps 0 and 1
+  const ExplorationResult r = explore_scene(source, rec, modeler, st);
+  REQUIRE(r.steps.size() == 3);
+  CHECK(r.steps[0].aimed_at == 0);
+  CHECK(r.steps[1].aimed_at == 1);
+  CHECK(r.steps[2].aimed_at == 1);
+  REQUIRE(source.aimed.size() == 2);  // steps 1 and 2; step 0 and a step after an unambiguous one are the source's own
+  for (std::size_t k = 0; k < 2; ++k) {
+    REQUIRE(source.aimed[k].size() == 1);
+    CHECK(source.aimed[k][0].min == r.steps[k].clusters[0].box.min);
+    CHECK(source.aimed[k][0].max == r.steps[k].clusters[0].box.max);
+  }
+  CHECK(source.calls == 3);
+  CHECK(r.stop == ExplorationStop::explained);
+  // A source that cannot aim, or aiming off (the default): overview(step) only, the same steps.
+  for (const bool aim : {true, false}) {
+    INFO("aim_ambiguous " << aim);
+    st.aim_ambiguous = aim;
+    FakeSource plain{frame_of({kA, kB})};
+    FakeAimedSource aimed{{frame_of({kA, kB})}, {}};
+    FakeRecogniser rec2 = knows_a(), rec3 = knows_a();
+    rec2.ambiguous_matches = rec3.ambiguous_matches = 2;
+    const ExplorationResult r2 = explore_scene(plain, rec2, modeler, st);
+    REQUIRE(r2.steps.size() == 3);
+    for (const StepRecord& s : r2.steps) CHECK(s.aimed_at == 0);
+    if (!aim) {
+      const ExplorationResult r3 = explore_scene(aimed, rec3, modeler, st);
+      CHECK(r3.steps.size() == 3);
+      CHECK(aimed.aimed.empty());
+    }
+  }
+  CHECK_FALSE(ExplorationSetting{}.aim_ambiguous);
+}
+
+TEST_CASE("explore_scene: a placement told once is remembered when a later view leaves it ambiguous",
+          "[scene][explore][aim]") {
+  ExplorationSetting st;
+  st.max_steps = 4;
+  FakeModeler modeler;
+  FakeSource source{frame_of({kA, kB})};
+  FakeRecogniser rec = knows_a();
+  rec.ambiguous_from = 1;  // A accepted in step 0, ambiguous (and posed 5 cm off) from step 1 on
+  const ExplorationResult r = explore_scene(source, rec, modeler, st);
+  REQUIRE(r.steps.size() == 2);
+  const ClusterRecord& a0 = r.steps[0].clusters[0];
+  const ClusterRecord& a1 = r.steps[1].clusters[0];
+  CHECK(a0.state == ClusterState::recognised);
+  CHECK_FALSE(a0.remembered);
+  CHECK(a1.recognition.ambiguous);
+  CHECK(a1.state == ClusterState::recognised);
+  CHECK(a1.remembered);
+  CHECK(a1.recognition.pose.isApprox(a0.recognition.pose, 1e-12));  // step 0's placement, not this view's
+  CHECK(r.stop == ExplorationStop::explained);
+  // Without the memory every step stands alone: A stays ambiguous up to the step limit.
+  st.remember_recognitions = false;
+  FakeSource again{frame_of({kA, kB})};
+  FakeRecogniser rec2 = knows_a();
+  rec2.ambiguous_from = 1;
+  const ExplorationResult r2 = explore_scene(again, rec2, modeler, st);
+  REQUIRE(r2.steps.size() == 4);
+  CHECK(r2.steps[3].clusters[0].state == ClusterState::ambiguous);
+  CHECK_FALSE(r2.steps[3].clusters[0].remembered);
+  CHECK(r2.stop == ExplorationStop::max_steps);
 }

@@ -41,34 +41,8 @@ nbs_test::LogOddsSpace slab_space() {
   return space;
 }
 
-// Brute-force oracle of e_v's sum for one candidate: enumerate each ray's voxels with traverse_segment, keep those in
-// the box, stop after the first occupied one, count each key once.
-double oracle_entropy_sum(const nbs_test::LogOddsSpace& space, const std::vector<Ray>& rays) {
-  std::set<std::uint64_t> seen;
-  double sum = 0.0;
-  const KeyBox box = space.bounds_keys();
-  for (const Ray& r : rays) {
-    traverse_segment(space.grid(), r.origin, r.end, [&](const VoxelKey& k) {
-      if (!box.contains(k)) return true;
-      if (seen.insert(k.pack()).second) sum += H(space.probability(k));
-      return !space.occupied(k);
-    });
-  }
-  return sum;
-}
-
-std::vector<LinearScanPath> ring_candidates(int n) {
-  std::vector<LinearScanPath> c;
-  const Vec3 centre(0.05, 0.05, 0.05);
-  for (int i = 0; i < n; ++i) {
-    const double a = 2.0 * 3.141592653589793 * i / n;
-    const Vec3 p = centre + Vec3(0.15 * std::cos(a), 0.15 * std::sin(a), 0.03 * (i % 3 - 1));
-    const Viewpoint v = Viewpoint::look_at(p, centre);
-    c.emplace_back(v, p + 0.03 * v.y_axis());
-  }
-  return c;
-}
-
+using nbs_test::oracle_entropy_sum;
+using nbs_test::ring_candidates;
 
 }  // namespace
 

@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared fixtures of the utility-term tests: a small log-odds voxel space with hand-known probabilities.
+#include <cmath>
 #include <cstdint>
+#include <set>
 #include <vector>
 
 #include "nbs/core/scan.hpp"
 #include "nbs/space/hashed_block_backend.hpp"
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
+#include "nbs/space/ray_traversal.hpp"
 #include "nbs/utility/evaluate_candidates.hpp"
+#include "entropy_oracle.hpp"
 
 namespace nbs_test {
 
@@ -43,5 +47,34 @@ inline nbs::EvaluationSetting threads(unsigned n) {
 }
 
 inline nbs::VoxelKey key(int x, int y, int z) { return {x, y, z}; }
+
+// Brute-force oracle of e_v's sum for one candidate: enumerate each ray's voxels with traverse_segment, keep those in
+// the box, stop after the first occupied one, count each key once.
+inline double oracle_entropy_sum(const nbs_test::LogOddsSpace& space, const std::vector<nbs::Ray>& rays) {
+  std::set<std::uint64_t> seen;
+  double sum = 0.0;
+  const nbs::KeyBox box = space.bounds_keys();
+  for (const nbs::Ray& r : rays) {
+    nbs::traverse_segment(space.grid(), r.origin, r.end, [&](const nbs::VoxelKey& k) {
+      if (!box.contains(k)) return true;
+      if (seen.insert(k.pack()).second) sum += H(space.probability(k));
+      return !space.occupied(k);
+    });
+  }
+  return sum;
+}
+
+/// n scan candidates on a ring around the space of make_space (radius 0.15 m, heights −3, 0, +3 cm, 3 cm paths).
+inline std::vector<nbs::LinearScanPath> ring_candidates(int n) {
+  std::vector<nbs::LinearScanPath> c;
+  const nbs::Vec3 centre(0.05, 0.05, 0.05);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.141592653589793 * i / n;
+    const nbs::Vec3 p = centre + nbs::Vec3(0.15 * std::cos(a), 0.15 * std::sin(a), 0.03 * (i % 3 - 1));
+    const nbs::Viewpoint v = nbs::Viewpoint::look_at(p, centre);
+    c.emplace_back(v, p + 0.03 * v.y_axis());
+  }
+  return c;
+}
 
 }  // namespace nbs_test

@@ -96,6 +96,9 @@ struct ClusterRecord {
   /// are the pieces of one cluster that held several objects.
   int segment = 0;
   bool split = false;  ///< a piece of a cluster that held a recognised object and more (recognise_clusters)
+  /// recognised from an earlier step (explore_scene, ExplorationSetting::remember_recognitions): this view left the
+  /// pose ambiguous; `recognition.pose` is the placement accepted unambiguously before, q_h / v_h this view's
+  bool remembered = false;
   std::vector<std::size_t> indices;  ///< its points: indices into the step's overview frame, ascending
 };
 

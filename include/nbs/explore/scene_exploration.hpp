@@ -57,6 +57,14 @@ concept OverviewSource = requires(S& s, int step) {
   { s.overview(step) } -> std::same_as<Scan>;
 };
 
+/// Capability of an OverviewSource: `overview(step, boxes)` plans the frame of step `step` to show the boxes (world
+/// frame) of the clusters the last step left ambiguous (Sec. 3.1's planned recognition views); the loop calls it
+/// instead of `overview(step)` when there are such boxes and ExplorationSetting::aim_ambiguous is set.
+template <class S>
+concept AimedOverviewSource = OverviewSource<S> && requires(S& s, int step, std::span<const Aabb> boxes) {
+  { s.overview(step, boxes) } -> std::same_as<Scan>;
+};
+
 /// NBS modeling of the object in `hypothesis.box` with at most `max_scans` scans (≥ 1).
 template <class M>
 concept ObjectModeler = requires(M& m, const scene::ObjectHypothesis& h, int max_scans) {
@@ -79,6 +87,8 @@ struct LearnedModel {
 struct StepRecord {
   int step = 0;                          ///< 0-based
   Pose view = Pose::Identity();          ///< T_WS of the overview frame
+  /// Ambiguous clusters of the previous step the frame was aimed at (AimedOverviewSource); 0: the source's own view
+  int aimed_at = 0;
   std::size_t frame_points = 0;
   scene::SegmentationStatus segmentation = scene::SegmentationStatus::ok;
   std::vector<ClusterRecord> clusters;
@@ -109,6 +119,15 @@ struct ExplorationSetting {
   /// Splits of one segmentation cluster (touching objects form one cluster) with a recogniser that models
   /// PartRecogniser (see recognise_clusters), ≥ 0; 0: one object per cluster, as the thesis.
   int max_parts = 3;
+  /// A cluster a view leaves ambiguous whose box holds the centroid of a cluster recognised unambiguously as the
+  /// same model in an earlier step is recognised at that placement (`ClusterRecord::remembered`): a view that hides
+  /// the telling part again does not undo what an earlier view told. false: every step on its own.
+  bool remember_recognitions = true;
+  /// With an AimedOverviewSource: aim the next overview at the clusters a step left ambiguous (planned recognition
+  /// views). Off by default: the view that sees most of a box's unobserved voxels did not tell poses apart better
+  /// than the ring's next view on the development scenes, and a wrong model's ambiguity (the mushroom as the plate)
+  /// then persists instead of the cluster being modeled (docs/evaluation.md, "Planned recognition views").
+  bool aim_ambiguous = false;
 
   void validate() const {
     segmentation.validate();
@@ -125,10 +144,12 @@ struct ExplorationResult {
   ExplorationStop stop = ExplorationStop::max_steps;
 };
 
-/// Runs the loop. Per step: `source.overview(step)`, `segment_scene`, `recognise_clusters` (every cluster recognised;
-/// with a PartRecogniser, a cluster that holds a known object and more is split, up to `max_parts`); the first
-/// cluster (in segmentation order) that is neither recognised, nor ambiguous (a known model whose pose the view
-/// leaves open: not modeled), nor inside the box of an object modeled before (also when ambiguous: `modeled`), nor
+/// Runs the loop. Per step: `source.overview(step)` (with `aim_ambiguous` and an AimedOverviewSource:
+/// `source.overview(step, boxes)` while the last step left clusters ambiguous, their boxes), `segment_scene`, `recognise_clusters` (every cluster recognised;
+/// with a PartRecogniser, a cluster that holds a known object and more is split, up to `max_parts`; with
+/// `remember_recognitions` an ambiguous cluster holding an earlier step's unambiguous placement of its model is
+/// recognised there, `remembered`); the first cluster (in segmentation order) that is neither recognised, nor
+/// ambiguous (a known model whose pose the view leaves open: not modeled), nor inside the box of an object modeled before (also when ambiguous: `modeled`), nor
 /// a split piece of a cluster in which a model the loop learned was recognised (`modeled`: the rest of that
 /// object's partial model) is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
@@ -144,12 +165,31 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
   setting.validate();
   ExplorationResult out;
   int next_name = 1;
+  std::vector<Aabb> ambiguous_boxes;  // of the last step's ambiguous clusters
+  struct Placement {
+    std::string model;
+    Pose pose;
+    Vec3 centroid;
+  };
+  std::vector<Placement> placements;  // unambiguous recognitions of earlier steps, newest first
   for (int step = 0; step < setting.max_steps; ++step) {
-    const Scan frame = source.overview(step);
+    int aimed_at = 0;
+    Scan frame;
+    if constexpr (AimedOverviewSource<Source>) {
+      if (setting.aim_ambiguous && !ambiguous_boxes.empty()) {
+        frame = source.overview(step, std::span<const Aabb>(ambiguous_boxes));
+        aimed_at = static_cast<int>(ambiguous_boxes.size());
+      } else {
+        frame = source.overview(step);
+      }
+    } else {
+      frame = source.overview(step);
+    }
     detail::require(frame.empty() || !frame.profile_poses.empty(), "explore_scene: the overview frame of step ", step,
                     " has ", frame.size(), " points but no profile pose");
     StepRecord rec;
     rec.step = step;
+    rec.aimed_at = aimed_at;
     rec.view = frame.profile_poses.empty() ? Pose::Identity() : frame.profile_poses.front();
     rec.frame_points = frame.size();
     const scene::Segmentation seg = scene::segment_scene(frame.points, setting.segmentation);
@@ -172,6 +212,16 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
                       [&](const LearnedModel& m) { return !m.name.empty() && m.name == c.record.recognition.model; }))
         learned_segments.push_back(c.record.segment);
     for (RecognisedCluster& c : recognised) {
+      if (setting.remember_recognitions && c.record.state == ClusterState::ambiguous) {
+        const auto earlier = std::find_if(placements.begin(), placements.end(), [&](const Placement& p) {
+          return p.model == c.record.recognition.model && c.record.box.contains(p.centroid);
+        });
+        if (earlier != placements.end()) {
+          c.record.state = ClusterState::recognised;
+          c.record.remembered = true;
+          c.record.recognition.pose = earlier->pose;
+        }
+      }
       const bool rest_of_learned =
           c.record.split && std::find(learned_segments.begin(), learned_segments.end(), c.record.segment) !=
                                 learned_segments.end();
@@ -216,8 +266,13 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
       rec.learned = std::move(learned);
     }
     const bool modeled = rec.modeled_cluster >= 0, unexplained_left = todo != rec.clusters.end();
-    const bool ambiguous_left = std::any_of(rec.clusters.begin(), rec.clusters.end(),
-                                            [](const ClusterRecord& c) { return c.state == ClusterState::ambiguous; });
+    ambiguous_boxes.clear();
+    for (const ClusterRecord& c : rec.clusters) {
+      if (c.state == ClusterState::ambiguous) ambiguous_boxes.push_back(c.box);
+      if (c.state == ClusterState::recognised && !c.remembered)
+        placements.insert(placements.begin(), Placement{c.recognition.model, c.recognition.pose, c.centroid});
+    }
+    const bool ambiguous_left = !ambiguous_boxes.empty();
     out.steps.push_back(std::move(rec));
     on_step(out.steps.back());
     if (!modeled && unexplained_left) {

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <thread>
 #include <utility>
 
@@ -18,6 +20,7 @@
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/driver/simulated_driver.hpp"
 #include "nbs/explore/overview_ring_setting.hpp"
+#include "nbs/explore/recognition_view.hpp"
 #include "nbs/explore/scene_exploration.hpp"
 #include "nbs/mesh/conversion.hpp"
 #include "nbs/sensor/presets.hpp"
@@ -38,9 +41,12 @@ struct SpaceSharingDriver {
   }
 };
 
-/// OverviewSource: per step `frames_per_step` area-sensor frames around the target, all integrated into `space`
-/// (with the thesis's update model one frame leaves surface voxels below p = 0.75, so v_h needs several), the
-/// middle one returned. Frame i of the whole run uses noise seed seed · 1000 + i. Borrows scanner and space.
+/// AimedOverviewSource: per step `frames_per_step` area-sensor frames around the target, all integrated into
+/// `space` (with the thesis's update model one frame leaves surface voxels below p = 0.75, so v_h needs several), the
+/// middle one returned. `overview(step)` looks from the ring (`setting`); `overview(step, boxes)` from the planned
+/// recognition view of the boxes (plan_recognition_view over `space` with `aim`; the frames spread in azimuth around
+/// it as on the ring), kept in `last_aimed`. Frame i of the whole run uses noise seed seed · 1000 + i. Borrows
+/// scanner and space.
 template <class Scanner, VoxelSpace Space>
   requires ScanSimulator<Scanner, AreaSensor>
 struct OverviewRing {
@@ -49,17 +55,32 @@ struct OverviewRing {
   Space* space;
   OverviewRingSetting setting;
   std::uint64_t seed = 1;
+  RecognitionViewSetting aim{};
+  std::optional<RecognitionView> last_aimed{};  ///< the planned view of the last overview (none: the ring's)
 
   Scan overview(int step) {
     setting.validate();
+    last_aimed.reset();
+    return frames(step, setting.step_azimuth(step), setting.elevation_rad, setting.target);
+  }
+  Scan overview(int step, std::span<const Aabb> boxes) {
+    if (boxes.empty()) return overview(step);
+    setting.validate();
+    const RecognitionView v = plan_recognition_view(*space, sensor, boxes, setting, step, aim);
+    Scan s = frames(step, v.azimuth_rad, v.elevation_rad, v.target);
+    last_aimed = v;
+    return s;
+  }
+
+private:
+  Scan frames(int step, double azimuth_rad, double elevation_rad, const Vec3& target) {
+    detail::require(scanner != nullptr && space != nullptr, "OverviewRing: no scanner or no scene space given");
     Scan middle;
     const int half = setting.frames_per_step / 2;
-    const double a0 = setting.step_azimuth(step);
     for (int k = -half; k <= half; ++k) {
-      const double a = a0 + k * setting.frame_spread_rad;
-      const Vec3 eye = setting.eye(a);
+      const Vec3 eye = target + setting.distance_m * unit_from_angles(azimuth_rad + k * setting.frame_spread_rad, elevation_rad);
       const auto frame = static_cast<std::uint64_t>(step * setting.frames_per_step + k + half);
-      Scan s = scanner->scan(LinearScanPath(Viewpoint::look_at(eye, setting.target)), sensor, seed * 1000 + frame);
+      Scan s = scanner->scan(LinearScanPath(Viewpoint::look_at(eye, target)), sensor, seed * 1000 + frame);
       (void)space->integrate(s);
       if (k == 0) middle = std::move(s);
     }
@@ -86,6 +107,7 @@ struct NbsObjectModeler {
   bool predict_occlusion = true;  ///< cut the planner's beams at the scene's occupied voxels outside the box
 
   ModelingResult model(const scene::ObjectHypothesis& h, int max_scans) {
+    detail::require(scanner != nullptr && space != nullptr, "NbsObjectModeler: no scanner or no scene space given");
     detail::require(object_scans >= 1, "NbsObjectModeler.object_scans must be >= 1, got ", object_scans);
     detail::require(max_scans >= 1, "NbsObjectModeler::model: max_scans must be >= 1, got ", max_scans);
     Parameters p = params;

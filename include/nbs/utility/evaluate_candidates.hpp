@@ -65,7 +65,8 @@ struct EvaluationSetting {
   /// nullptr = none (terms that need them, e.g. SurfaceQuality, then see no surface). Borrowed for the call.
   const SurfaceFeatureMap* features = nullptr;
   /// Occlusion by what lies outside the space (ray_occluder.hpp); empty = none. Each simulated beam is cut where
-  /// the occluder says; a cut beam ends as a hit (RayEnd::hit) even if it met no occupied voxel of the space.
+  /// the occluder says and ends with RayEnd::occluded (a term sees a cut beam as one that met nothing beyond its
+  /// voxels; e.g. VasquezGomezVI counts it as a ray that registers nothing, as one that misses the object).
   RayOccluder occluder;
 };
 
@@ -128,7 +129,8 @@ struct EvaluationBuffers {
 template <VoxelSpace Space, CandidateRaySensor Sensor, UtilityTerm Term>
 void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& sensor, const Space& space,
                   const PlanningSnapshot<Space>& snapshot, const SurfaceFeatureMap* features,
-                  const RaySampling& sampling, const RayOccluder* occluder, Term& term, EvaluationBuffers& buf, double& value,
+                  const RaySampling& sampling, const RayOccluder* occluder, Term& term, EvaluationBuffers& buf,
+                  double& value,
                   std::uint64_t& ray_count, std::uint64_t& voxel_count) {
   using State = typename Space::State;
   term.begin_candidate(index);
@@ -147,6 +149,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
       const Vec3 dir = (ray.end - ray.origin).normalized();
       bool cut = false;
       if (occluder) {
+        detail::require(ray.origin.allFinite() && ray.end.allFinite(), "candidate ", index, ": ray is not finite");
         const double f = (*occluder)(ray);
         detail::require(f >= 0.0 && f <= 1.0, "candidate ", index, ": the ray occluder returned ", f,
                         ", not a fraction in [0, 1]");
@@ -155,7 +158,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
           ray.end = ray.origin + f * (ray.end - ray.origin);
           if (!(f > 0.0)) {  // occluded at its origin: nothing to cast
             term.begin_ray();
-            term.end_ray(RayEnd{true, 0});
+            term.end_ray(RayEnd{false, 0, true});
             continue;
           }
         }
@@ -209,7 +212,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
           return true;
         });
       }
-      term.end_ray(RayEnd{res.hit || cut, res.voxels});
+      term.end_ray(RayEnd{res.hit, res.voxels, cut});
       voxel_count += res.voxels;
     }
     ray_count = buf.rays.size();

@@ -7,7 +7,6 @@
 /// `VoxelSpaceOccluder` answers from a shared scene voxel space (e.g. the one nbs_explore fuses every scan into).
 
 #include <algorithm>
-#include <cmath>
 #include <functional>
 
 #include "nbs/core/error.hpp"
@@ -17,16 +16,17 @@
 
 namespace nbs {
 
-/// f(ray) ∈ [0, 1]: the beam origin + t·(end − origin) is free of outside occluders for t < f (1 = not occluded).
-/// Empty = no occluder. Called concurrently by the evaluation threads: it must only read shared state.
+/// f(ray) ∈ [0, 1]: the beam origin + t·(end − origin) (world frame, metres) is free of outside occluders for t < f
+/// (1 = not occluded). Empty = no occluder. Called concurrently by the evaluation threads: it must be a pure
+/// function of the ray (no mutable state).
 using RayOccluder = std::function<double(const Ray&)>;
 
-/// RayOccluder over `scene` (borrowed: it must outlive the occluder and not change during an evaluation that uses it): a
-/// beam is cut at the first occupied voxel of `scene` it meets before it enters `target` grown by `margin_m` (the
-/// target's own voxels in `scene` never occlude). Beams that miss the grown target, or start inside it, are not
-/// occluded (they see nothing of the target either way). Unknown voxels do not occlude (an optimistic prediction,
-/// as the planner's own ray casts, Sec. 4.5.3). Throws InvalidArgument if target is empty or not finite, or
-/// margin_m < 0.
+/// RayOccluder over `scene` (borrowed: it must outlive the occluder and not change during an evaluation that uses it):
+/// a beam is cut where it enters the first occupied voxel of `scene` it meets before it enters `target` grown by
+/// `margin_m`; voxels overlapping the grown target never occlude (the target's own surface). Beams that miss the
+/// grown target are not cut (they see nothing of it), nor are beams starting inside it (no outside part). Unknown
+/// voxels do not occlude (an optimistic prediction, as the planner's own ray casts, Sec. 4.5.3). Throws
+/// InvalidArgument if target is empty or not finite, or margin_m < 0.
 template <VoxelSpace Space>
 class VoxelSpaceOccluder {
 public:
@@ -42,13 +42,19 @@ public:
     double t0, t1;
     if (!detail::clip_segment(ray.origin, ray.end, grown_, t0, t1) || t0 <= 0.0) return 1.0;
     const Vec3 d = ray.end - ray.origin;
-    const RaycastResult r = scene_->cast_ray(Ray{ray.origin, ray.origin + t0 * d}, [](const VoxelKey&, const auto&) { return true; });
+    const double half = 0.5 * scene_->resolution_m();
+    const auto outside_target = [&](const VoxelKey& k, const auto&) {
+      const Vec3 c = scene_->grid().center(k);
+      return ((c.array() + half) <= grown_.min.array()).any() || ((c.array() - half) >= grown_.max.array()).any();
+    };
+    const RaycastResult r = scene_->cast_ray(Ray{ray.origin, ray.origin + t0 * d}, outside_target);
     if (!r.hit) return 1.0;
-    // Where the beam enters the hit voxel's neighbourhood: the centre's projection less half a voxel diagonal.
-    const double len2 = d.squaredNorm();
-    const double t_center = (scene_->grid().center(r.hit_key) - ray.origin).dot(d) / len2;
-    const double half = 0.8660254037844386 * scene_->resolution_m() / std::sqrt(len2);
-    return std::clamp(t_center - half, 0.0, t0);
+    // The beam's entry into the hit voxel (the cast met it, so the clip succeeds; 0 if the origin lies in it).
+    const Vec3 c = scene_->grid().center(r.hit_key);
+    double e0 = 0.0, e1 = 1.0;
+    if (!detail::clip_segment(ray.origin, ray.end, Aabb{c - Vec3::Constant(half), c + Vec3::Constant(half)}, e0, e1))
+      e0 = t0;
+    return std::clamp(e0, 0.0, t0);
   }
 
 private:

@@ -38,6 +38,8 @@ struct VoxelVisit {
 struct RayEnd {
   bool hit = false;             ///< stopped at an occupied voxel (the last VoxelVisit)
   std::uint32_t voxels = 0;     ///< voxels visited on this ray
+  /// cut by EvaluationSetting::occluder before its end (an obstacle outside the space): it saw only its voxels here
+  bool occluded = false;
 };
 
 }  // namespace nbs
