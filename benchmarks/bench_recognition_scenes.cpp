@@ -139,39 +139,16 @@ int main(int argc, char** argv) {
   rs.threads = threads;
   // NBS_BENCH_RECOGNITION_AMBIGUITY=<margin>|off: the q_h margin of PpfRecogniserSetting::reject_ambiguous, or the
   // thesis's recogniser (accept the best placement even when another fits as well); default: the library's.
-  if (const char* amb = std::getenv("NBS_BENCH_RECOGNITION_AMBIGUITY")) {
-    char* end = nullptr;
-    if (std::string_view(amb) == "off") {
-      rs.reject_ambiguous = false;
-    } else {
-      rs.ambiguity_margin = std::strtod(amb, &end);
-      if (end == amb || *end != '\0' || !(rs.ambiguity_margin >= 0.0)) {
-        std::fprintf(stderr, "NBS_BENCH_RECOGNITION_AMBIGUITY must be a q_h margin >= 0 or 'off', got '%s'\n", amb);
-        return 2;
-      }
-    }
-  }
+  if (const char* amb = std::getenv("NBS_BENCH_RECOGNITION_AMBIGUITY"); amb != nullptr && std::string_view(amb) == "off")
+    rs.reject_ambiguous = false;
+  else
+    rs.ambiguity_margin = bench::env_number("NBS_BENCH_RECOGNITION_AMBIGUITY", rs.ambiguity_margin, 0.0, 1.0);
   // NBS_BENCH_RECOGNITION_PARTS=<n>: objects found in one segmentation cluster at most (recognise_clusters'
   // max_parts; 0: one per cluster, the thesis); default: the exploration loop's.
-  int max_parts = explore::ExplorationSetting{}.max_parts;
-  if (const char* parts = std::getenv("NBS_BENCH_RECOGNITION_PARTS")) {
-    char* end = nullptr;
-    const long n = std::strtol(parts, &end, 10);
-    if (end == parts || *end != '\0' || n < 0 || n > 100) {
-      std::fprintf(stderr, "NBS_BENCH_RECOGNITION_PARTS must be an integer in [0, 100], got '%s'\n", parts);
-      return 2;
-    }
-    max_parts = static_cast<int>(n);
-  }
+  const int max_parts = static_cast<int>(
+      bench::env_number("NBS_BENCH_RECOGNITION_PARTS", explore::ExplorationSetting{}.max_parts, 0, 100, true));
   // NBS_BENCH_RECOGNITION_PART_QH=<q>: PpfRecogniserSetting::part_min_q_h (development runs).
-  if (const char* q = std::getenv("NBS_BENCH_RECOGNITION_PART_QH")) {
-    char* end = nullptr;
-    rs.part_min_q_h = std::strtod(q, &end);
-    if (end == q || *end != '\0' || !(rs.part_min_q_h >= 0.0 && rs.part_min_q_h <= 1.0)) {
-      std::fprintf(stderr, "NBS_BENCH_RECOGNITION_PART_QH must be in [0, 1], got '%s'\n", q);
-      return 2;
-    }
-  }
+  rs.part_min_q_h = bench::env_number("NBS_BENCH_RECOGNITION_PART_QH", rs.part_min_q_h, 0.0, 1.0);
   std::printf("splits per cluster: at most %d (recognise_clusters), a crop needs q_h >= %.2f\n", max_parts,
               rs.part_min_q_h);
   if (rs.reject_ambiguous)

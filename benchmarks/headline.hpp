@@ -28,6 +28,23 @@ inline bool quick_mode() {
   return q != nullptr && std::string_view(q) == "1";
 }
 
+/// The number in the environment variable `name` (a development knob of a benchmark), `fallback` if it is unset.
+/// Exits the benchmark with status 2 and a message naming the variable and its text if that is not a number in
+/// [lo, hi] (an integer if `integer`).
+inline double env_number(const char* name, double fallback, double lo, double hi, bool integer = false) {
+  const char* text = std::getenv(name);
+  if (text == nullptr) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  const bool whole = !integer || (v >= lo && v <= hi && v == static_cast<double>(static_cast<long long>(v)));
+  if (end == text || *end != '\0' || !(v >= lo && v <= hi) || !whole) {
+    std::fprintf(stderr, "%s must be %s in [%g, %g], got '%s'\n", name, integer ? "an integer" : "a number", lo, hi,
+                 text);
+    std::exit(2);
+  }
+  return v;
+}
+
 /// Prints `HEADLINE <name>: <value>` on a line of its own (flushes immediately).
 inline void report_headline(std::string_view name, double value, std::string_view note = {}) {
   std::printf("HEADLINE %.*s: %.4g", static_cast<int>(name.size()), name.data(), value);
