@@ -83,7 +83,8 @@ struct FakeRecogniser {
   int ambiguous_matches = 0;
   int matches = 0;
   bool learned_ambiguous = false;  ///< report every match of a learned model as ambiguous
-  int ambiguous_from = -1;  ///< ≥ 0: the first model's matches from this one on are ambiguous, posed 5 cm off
+  int ambiguous_from = -1;  ///< ≥ 0: the first model's matches from this one on are ambiguous, posed ambiguous_shift_m off
+  double ambiguous_shift_m = 0.02;
   int first_matches = 0;
   Recognition recognise(const scene::ObjectHypothesis& h, const Scan& cluster) {
     CHECK(cluster.size() == h.points.size());
@@ -99,7 +100,7 @@ struct FakeRecogniser {
                       (&m != &models.front() && learned_ambiguous);
         if (&m == &models.front() && ambiguous_from >= 0 && first_matches++ >= ambiguous_from) {
           r.ambiguous = true;
-          r.pose.translation().x() += 0.05;
+          r.pose.translation().x() += ambiguous_shift_m;
         }
         r.accepted = !r.ambiguous;
       }
@@ -539,7 +540,7 @@ TEST_CASE("explore_scene: a placement told once is remembered when a later view 
   FakeModeler modeler;
   FakeSource source{frame_of({kA, kB})};
   FakeRecogniser rec = knows_a();
-  rec.ambiguous_from = 1;  // A accepted in step 0, ambiguous (and posed 5 cm off) from step 1 on
+  rec.ambiguous_from = 1;  // A accepted in step 0, ambiguous (and posed 2 cm off) from step 1 on
   const ExplorationResult r = explore_scene(source, rec, modeler, st);
   REQUIRE(r.steps.size() == 2);
   const ClusterRecord& a0 = r.steps[0].clusters[0];
@@ -551,14 +552,22 @@ TEST_CASE("explore_scene: a placement told once is remembered when a later view 
   CHECK(a1.remembered);
   CHECK(a1.recognition.pose.isApprox(a0.recognition.pose, 1e-12));  // step 0's placement, not this view's
   CHECK(r.stop == ExplorationStop::explained);
-  // Without the memory every step stands alone: A stays ambiguous up to the step limit.
-  st.remember_recognitions = false;
-  FakeSource again{frame_of({kA, kB})};
-  FakeRecogniser rec2 = knows_a();
-  rec2.ambiguous_from = 1;
-  const ExplorationResult r2 = explore_scene(again, rec2, modeler, st);
-  REQUIRE(r2.steps.size() == 4);
-  CHECK(r2.steps[3].clusters[0].state == ClusterState::ambiguous);
-  CHECK_FALSE(r2.steps[3].clusters[0].remembered);
-  CHECK(r2.stop == ExplorationStop::max_steps);
+  // Without the memory every step stands alone, and a placement of this view farther than remember_distance_m from
+  // the earlier one is not the same: A stays ambiguous up to the step limit either way.
+  for (const bool far : {false, true}) {
+    INFO("far " << far);
+    ExplorationSetting st2 = st;
+    st2.remember_recognitions = far;
+    FakeSource again{frame_of({kA, kB})};
+    FakeRecogniser rec2 = knows_a();
+    rec2.ambiguous_from = 1;
+    if (far) rec2.ambiguous_shift_m = 0.04;
+    const ExplorationResult r2 = explore_scene(again, rec2, modeler, st2);
+    REQUIRE(r2.steps.size() == 4);
+    CHECK(r2.steps[3].clusters[0].state == ClusterState::ambiguous);
+    CHECK_FALSE(r2.steps[3].clusters[0].remembered);
+    CHECK(r2.stop == ExplorationStop::max_steps);
+  }
+  st.remember_distance_m = -0.01;
+  CHECK_THROWS_AS(st.validate(), InvalidArgument);
 }

@@ -110,8 +110,10 @@ TEST_CASE("plan_recognition_view: bad input throws", "[scene][explore][aim]") {
   bad.azimuths = 0;
   CHECK_THROWS_AS(plan_recognition_view(space, camera, boxes, ring, 0, bad), InvalidArgument);
   bad = {};
-  bad.elevations_rad = {2.0};
-  CHECK_THROWS_AS(plan_recognition_view(space, camera, boxes, ring, 0, bad), InvalidArgument);
+  for (const double el : {2.0, -0.1, 0.0}) {
+    bad.elevations_rad = {el};
+    CHECK_THROWS_AS(plan_recognition_view(space, camera, boxes, ring, 0, bad), InvalidArgument);
+  }
   bad = {};
   bad.elevations_rad.clear();
   CHECK_THROWS_AS(plan_recognition_view(space, camera, boxes, ring, 0, bad), InvalidArgument);

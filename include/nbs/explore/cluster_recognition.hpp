@@ -97,7 +97,8 @@ struct ClusterRecord {
   int segment = 0;
   bool split = false;  ///< a piece of a cluster that held a recognised object and more (recognise_clusters)
   /// recognised from an earlier step (explore_scene, ExplorationSetting::remember_recognitions): this view left the
-  /// pose ambiguous; `recognition.pose` is the placement accepted unambiguously before, q_h / v_h this view's
+  /// pose ambiguous (`recognition.ambiguous`, not `accepted`; q_h / v_h this view's), `recognition.pose` is the
+  /// placement accepted unambiguously before, and the state is `recognised`
   bool remembered = false;
   std::vector<std::size_t> indices;  ///< its points: indices into the step's overview frame, ascending
 };

@@ -56,15 +56,15 @@ struct RecognitionViewSetting {
     detail::require(azimuths >= 1, "RecognitionViewSetting.azimuths must be >= 1, got ", azimuths);
     detail::require(!elevations_rad.empty(), "RecognitionViewSetting.elevations_rad must not be empty");
     for (const double e : elevations_rad)
-      detail::require(std::isfinite(e) && std::abs(e) < 0.5 * std::numbers::pi,
-                      "RecognitionViewSetting.elevations_rad must be in (-pi/2, pi/2), got ", e);
+      detail::require(std::isfinite(e) && e > 0.0 && e < 0.5 * std::numbers::pi,
+                      "RecognitionViewSetting.elevations_rad must be in (0, pi/2) (above the table), got ", e);
     sampling.validate();
     detail::require(threads >= 1, "RecognitionViewSetting.threads must be >= 1, got ", threads);
   }
 };
 
 /// A planned recognition view: the eye, the point it looks at, its azimuth and elevation around that point, and
-/// its score (unobserved voxels of the boxes it reaches; 0: no candidate sees any, the ring's view is as good).
+/// its score (unobserved voxels of the boxes it reaches; 0: no candidate reaches any).
 struct RecognitionView {
   Vec3 eye = Vec3::Zero();
   Vec3 target = Vec3::Zero();
@@ -73,9 +73,10 @@ struct RecognitionView {
   double score = 0.0;
 };
 
-/// The candidate (candidate 0: the ring's view of `step`, re-aimed at the boxes' centre) from which `sensor` reaches
-/// the most unobserved voxels of `boxes` in `space`; ties go to the lower candidate. World frame, metres. Throws
-/// InvalidArgument if `boxes` is empty or holds an empty or non-finite box, or a setting is invalid.
+/// The candidate from which `sensor` reaches the most unobserved voxels of `boxes` in `space` (boxes clipped to the
+/// space's key range); ties go to the lower candidate (elevation first, then azimuth from the ring's azimuth of
+/// `step` on). World frame, metres. Throws InvalidArgument if `boxes` is empty or holds an empty or non-finite box,
+/// or a setting is invalid.
 template <VoxelSpace Space>
 [[nodiscard]] RecognitionView plan_recognition_view(const Space& space, const AreaSensor& sensor,
                                                     std::span<const Aabb> boxes, const OverviewRingSetting& ring,
@@ -90,8 +91,7 @@ template <VoxelSpace Space>
                     "plan_recognition_view: a box is empty or not finite");
     all.extend(b.min);
     all.extend(b.max);
-    const auto lo = space.grid().key_of(b.min), hi = space.grid().key_of(b.max);
-    if (lo && hi) term.boxes.push_back(KeyBox{*lo, *hi});
+    term.boxes.push_back(space.grid().key_box(b));
   }
   const Vec3 target = all.center();
   std::vector<LinearScanPath> paths;

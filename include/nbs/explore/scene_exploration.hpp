@@ -120,9 +120,13 @@ struct ExplorationSetting {
   /// PartRecogniser (see recognise_clusters), ≥ 0; 0: one object per cluster, as the thesis.
   int max_parts = 3;
   /// A cluster a view leaves ambiguous whose box holds the centroid of a cluster recognised unambiguously as the
-  /// same model in an earlier step is recognised at that placement (`ClusterRecord::remembered`): a view that hides
-  /// the telling part again does not undo what an earlier view told. false: every step on its own.
+  /// same model in an earlier step (newest first; not inside the box of an object the loop modeled, and until a
+  /// later step sees something else there) is recognised at that placement (`ClusterRecord::remembered`): a view
+  /// that hides the telling part again does not undo what an earlier view told. false: every step on its own.
   bool remember_recognitions = true;
+  /// ... and whose best placement in this view lies within this distance of the earlier one (model frame origins,
+  /// metres, ≥ 0; the recognition evaluation's 30 mm): the same object, its pose only open in this view.
+  double remember_distance_m = 0.03;
   /// With an AimedOverviewSource: aim the next overview at the clusters a step left ambiguous (planned recognition
   /// views). Off by default: the view that sees most of a box's unobserved voxels did not tell poses apart better
   /// than the ring's next view on the development scenes, and a wrong model's ambiguity (the mushroom as the plate)
@@ -134,6 +138,7 @@ struct ExplorationSetting {
     detail::require(scan_budget >= 1, "ExplorationSetting.scan_budget must be >= 1, got ", scan_budget);
     detail::require(max_steps >= 1, "ExplorationSetting.max_steps must be >= 1, got ", max_steps);
     detail::require(max_parts >= 0, "ExplorationSetting.max_parts must be >= 0, got ", max_parts);
+    detail::require_non_negative("ExplorationSetting.remember_distance_m", remember_distance_m);
   }
 };
 
@@ -145,13 +150,13 @@ struct ExplorationResult {
 };
 
 /// Runs the loop. Per step: `source.overview(step)` (with `aim_ambiguous` and an AimedOverviewSource:
-/// `source.overview(step, boxes)` while the last step left clusters ambiguous, their boxes), `segment_scene`, `recognise_clusters` (every cluster recognised;
-/// with a PartRecogniser, a cluster that holds a known object and more is split, up to `max_parts`; with
-/// `remember_recognitions` an ambiguous cluster holding an earlier step's unambiguous placement of its model is
-/// recognised there, `remembered`); the first cluster (in segmentation order) that is neither recognised, nor
-/// ambiguous (a known model whose pose the view leaves open: not modeled), nor inside the box of an object modeled before (also when ambiguous: `modeled`), nor
-/// a split piece of a cluster in which a model the loop learned was recognised (`modeled`: the rest of that
-/// object's partial model) is
+/// `source.overview(step, boxes)` while the last step left clusters ambiguous, their boxes), `segment_scene`,
+/// `recognise_clusters` (every cluster recognised; with a PartRecogniser, a cluster that holds a known object and
+/// more is split, up to `max_parts`; with `remember_recognitions` an ambiguous cluster holding an earlier step's
+/// unambiguous placement of its model is recognised there, `remembered`); the first cluster (in segmentation order)
+/// that is neither recognised, nor ambiguous (a known model whose pose the view leaves open: not modeled), nor
+/// inside the box of an object modeled before (also when ambiguous: `modeled`), nor a split piece of a cluster in
+/// which a model the loop learned was recognised (`modeled`: the rest of that object's partial model) is
 /// modeled with the scans left, its mesh (if it has a triangle) learned as `name_prefix + k` in a model frame
 /// translated to its box's bottom centre; the next step re-recognises everything. Stops when no cluster is left to
 /// model and (with `resolve_ambiguous`) none is ambiguous (explained), when the budget is spent before a cluster
@@ -203,6 +208,25 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
     std::vector<scene::ObjectHypothesis> hypotheses;  // parallel to rec.clusters
     std::vector<RecognisedCluster> recognised =
         recognise_clusters(recogniser, frame, seg, setting.segmentation, setting.max_parts);
+    const auto in_learned_box = [&](const Vec3& x) {
+      return std::any_of(out.learned.begin(), out.learned.end(), [&](const LearnedModel& m) { return m.box.contains(x); });
+    };
+    // Remembered placements first (a remembered learned model marks its segment below); never where an object was
+    // modeled before (the `modeled` rule below wins there).
+    if (setting.remember_recognitions)
+      for (RecognisedCluster& c : recognised) {
+        const Recognition& r = c.record.recognition;
+        if (c.record.state != ClusterState::ambiguous || r.model.empty() || in_learned_box(c.record.centroid)) continue;
+        const auto earlier = std::find_if(placements.begin(), placements.end(), [&](const Placement& p) {
+          return p.model == r.model && c.record.box.contains(p.centroid) &&
+                 (p.pose.translation() - r.pose.translation()).norm() <= setting.remember_distance_m;
+        });
+        if (earlier != placements.end()) {
+          c.record.state = ClusterState::recognised;
+          c.record.remembered = true;
+          c.record.recognition.pose = earlier->pose;
+        }
+      }
     // Segments in which a model the loop learned was recognised: its model is partial (ĉ_m < 1), so the pieces of
     // the segment it leaves are most likely the unmodeled rest of that object, not a new one.
     std::vector<int> learned_segments;
@@ -212,24 +236,13 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
                       [&](const LearnedModel& m) { return !m.name.empty() && m.name == c.record.recognition.model; }))
         learned_segments.push_back(c.record.segment);
     for (RecognisedCluster& c : recognised) {
-      if (setting.remember_recognitions && c.record.state == ClusterState::ambiguous) {
-        const auto earlier = std::find_if(placements.begin(), placements.end(), [&](const Placement& p) {
-          return p.model == c.record.recognition.model && c.record.box.contains(p.centroid);
-        });
-        if (earlier != placements.end()) {
-          c.record.state = ClusterState::recognised;
-          c.record.remembered = true;
-          c.record.recognition.pose = earlier->pose;
-        }
-      }
       const bool rest_of_learned =
           c.record.split && std::find(learned_segments.begin(), learned_segments.end(), c.record.segment) !=
                                 learned_segments.end();
       // Modeled before: also when a database model fits it ambiguously (the mushroom's cap fits the plate's two
       // placements alike): that test cannot tell a wrong model, and this object has been modeled.
       if ((c.record.state == ClusterState::unexplained || c.record.state == ClusterState::ambiguous) &&
-          (rest_of_learned || std::any_of(out.learned.begin(), out.learned.end(),
-                                          [&](const LearnedModel& m) { return m.box.contains(c.record.centroid); })))
+          (rest_of_learned || in_learned_box(c.record.centroid)))
         c.record.state = ClusterState::modeled;
       rec.clusters.push_back(std::move(c.record));
       hypotheses.push_back(std::move(c.hypothesis));
@@ -267,6 +280,14 @@ ExplorationResult explore_scene(Source& source, Recogniser& recogniser, Modeler&
     }
     const bool modeled = rec.modeled_cluster >= 0, unexplained_left = todo != rec.clusters.end();
     ambiguous_boxes.clear();
+    // A placement expires when something else is seen where it was: a cluster there that is neither ambiguous nor
+    // recognised as the same model.
+    std::erase_if(placements, [&](const Placement& p) {
+      return std::any_of(rec.clusters.begin(), rec.clusters.end(), [&](const ClusterRecord& c) {
+        return c.box.contains(p.centroid) && c.state != ClusterState::ambiguous &&
+               !(c.state == ClusterState::recognised && c.recognition.model == p.model);
+      });
+    });
     for (const ClusterRecord& c : rec.clusters) {
       if (c.state == ClusterState::ambiguous) ambiguous_boxes.push_back(c.box);
       if (c.state == ClusterState::recognised && !c.remembered)

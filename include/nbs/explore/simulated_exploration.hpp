@@ -59,22 +59,28 @@ struct OverviewRing {
   std::optional<RecognitionView> last_aimed{};  ///< the planned view of the last overview (none: the ring's)
 
   Scan overview(int step) {
-    setting.validate();
+    check();
     last_aimed.reset();
     return frames(step, setting.step_azimuth(step), setting.elevation_rad, setting.target);
   }
+  /// The ring's view (overview(step)) if `boxes` is empty or no candidate reaches an unobserved voxel of them.
   Scan overview(int step, std::span<const Aabb> boxes) {
+    check();
+    last_aimed.reset();
     if (boxes.empty()) return overview(step);
-    setting.validate();
     const RecognitionView v = plan_recognition_view(*space, sensor, boxes, setting, step, aim);
+    if (!(v.score > 0.0)) return overview(step);
     Scan s = frames(step, v.azimuth_rad, v.elevation_rad, v.target);
     last_aimed = v;
     return s;
   }
 
 private:
-  Scan frames(int step, double azimuth_rad, double elevation_rad, const Vec3& target) {
+  void check() const {
     detail::require(scanner != nullptr && space != nullptr, "OverviewRing: no scanner or no scene space given");
+    setting.validate();
+  }
+  Scan frames(int step, double azimuth_rad, double elevation_rad, const Vec3& target) {
     Scan middle;
     const int half = setting.frames_per_step / 2;
     for (int k = -half; k <= half; ++k) {

@@ -212,7 +212,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
           return true;
         });
       }
-      term.end_ray(RayEnd{res.hit, res.voxels, cut});
+      term.end_ray(RayEnd{res.hit, res.voxels, cut && !res.hit});
       voxel_count += res.voxels;
     }
     ray_count = buf.rays.size();

@@ -38,7 +38,7 @@ struct VoxelVisit {
 struct RayEnd {
   bool hit = false;             ///< stopped at an occupied voxel (the last VoxelVisit)
   std::uint32_t voxels = 0;     ///< voxels visited on this ray
-  /// cut by EvaluationSetting::occluder before its end (an obstacle outside the space): it saw only its voxels here
+  /// ended at an obstacle outside the space (cut by EvaluationSetting::occluder, no occupied voxel before the cut)
   bool occluded = false;
 };
 
