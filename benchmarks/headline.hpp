@@ -36,8 +36,9 @@ inline double env_number(const char* name, double fallback, double lo, double hi
   if (text == nullptr) return fallback;
   char* end = nullptr;
   const double v = std::strtod(text, &end);
-  const bool whole = !integer || (v >= lo && v <= hi && v == static_cast<double>(static_cast<long long>(v)));
-  if (end == text || *end != '\0' || !(v >= lo && v <= hi) || !whole) {
+  const bool in_range = v >= lo && v <= hi;  // false for NaN; guards the integer cast below
+  const bool whole = !integer || (in_range && v == static_cast<double>(static_cast<long long>(v)));
+  if (end == text || *end != '\0' || !in_range || !whole) {
     std::fprintf(stderr, "%s must be %s in [%g, %g], got '%s'\n", name, integer ? "an integer" : "a number", lo, hi,
                  text);
     std::exit(2);

@@ -27,8 +27,12 @@ struct OverviewRingSetting {
 
   /// The eye at azimuth `azimuth_rad` (from +x towards +y) on the ring: target + distance_m · (cos el cos a,
   /// cos el sin a, sin el), world frame, metres.
-  [[nodiscard]] Vec3 eye(double azimuth_rad) const {
-    return target + distance_m * unit_from_angles(azimuth_rad, elevation_rad);
+  [[nodiscard]] Vec3 eye(double azimuth_rad) const { return eye(target, azimuth_rad, elevation_rad); }
+
+  /// The eye distance_m from `at` at azimuth `azimuth_rad` and elevation `elevation_rad` (the ring's formula
+  /// around another point, at another elevation). World frame, metres, radians.
+  [[nodiscard]] Vec3 eye(const Vec3& at, double azimuth_rad, double elevation_rad) const {
+    return at + distance_m * unit_from_angles(azimuth_rad, elevation_rad);
   }
 
   void validate() const {

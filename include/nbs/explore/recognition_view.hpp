@@ -102,7 +102,7 @@ template <VoxelSpace Space>
       v.azimuth_rad = ring.step_azimuth(step) + 2.0 * std::numbers::pi * k / setting.azimuths;
       v.elevation_rad = el;
       v.target = target;
-      v.eye = target + ring.distance_m * unit_from_angles(v.azimuth_rad, el);
+      v.eye = ring.eye(target, v.azimuth_rad, el);
       paths.emplace_back(Viewpoint::look_at(v.eye, target));
       views.push_back(v);
     }

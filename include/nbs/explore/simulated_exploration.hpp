@@ -84,7 +84,7 @@ private:
     Scan middle;
     const int half = setting.frames_per_step / 2;
     for (int k = -half; k <= half; ++k) {
-      const Vec3 eye = target + setting.distance_m * unit_from_angles(azimuth_rad + k * setting.frame_spread_rad, elevation_rad);
+      const Vec3 eye = setting.eye(target, azimuth_rad + k * setting.frame_spread_rad, elevation_rad);
       const auto frame = static_cast<std::uint64_t>(step * setting.frames_per_step + k + half);
       Scan s = scanner->scan(LinearScanPath(Viewpoint::look_at(eye, target)), sensor, seed * 1000 + frame);
       (void)space->integrate(s);

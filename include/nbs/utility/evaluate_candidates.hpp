@@ -146,10 +146,12 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
     const VoxelGrid& grid = space.grid();
     const bool first_only = fast && visits_first_only(term);
     for (Ray& ray : buf.rays) {
+      if (occluder || fast) {
+        detail::require(ray.origin.allFinite() && ray.end.allFinite(), "candidate ", index, ": ray is not finite");
+      }
       const Vec3 dir = (ray.end - ray.origin).normalized();
       bool cut = false;
       if (occluder) {
-        detail::require(ray.origin.allFinite() && ray.end.allFinite(), "candidate ", index, ": ray is not finite");
         const double f = (*occluder)(ray);
         detail::require(f >= 0.0 && f <= 1.0, "candidate ", index, ": the ray occluder returned ", f,
                         ", not a fraction in [0, 1]");
@@ -182,10 +184,7 @@ void evaluate_one(std::size_t index, const LinearScanPath& path, const Sensor& s
       term.begin_ray();
       RaycastResult res;
       typename PlanningSnapshot<Space>::Clipped clipped;
-      if (fast) {
-        detail::require(ray.origin.allFinite() && ray.end.allFinite(), "candidate ", index, ": ray is not finite");
-        clipped = snapshot.clip(ray);
-      }
+      if (fast) clipped = snapshot.clip(ray);
       if (first_only && clipped.meets && clipped.inside) {
         res = snapshot.cast_first_visits(clipped, buf.bits, [&](const VoxelKey& k, const VoxelClass& c, std::uint32_t at) {
           emit_at(k, c, true, at);
