@@ -13,7 +13,6 @@
 /// World frame, metres, radians.
 
 #include <algorithm>
-#include <cmath>
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
@@ -28,7 +27,6 @@
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan.hpp"
 #include "nbs/explore/cluster_recognition.hpp"
-#include "nbs/mesh/border_edges.hpp"
 #include "nbs/mesh/indexed_mesh.hpp"
 #include "nbs/recognition/hypothesis_validation.hpp"
 #include "nbs/recognition/hypothesis_verification.hpp"
@@ -339,11 +337,6 @@ struct PpfRecogniserSetting {
   /// ADD-S max (× the model's bounding-box diagonal) from which two placements differ, > 0. The max, not the mean:
   /// a turned handle moves a few percent of the surface, which the mean dilutes below any useful bound.
   double ambiguity_distance = 0.1;
-  /// Leave out of that max the samples placed over a hole of the model (SurfacePoseError::add_s_max_covered_m; rim:
-  /// within 2 sample spacings of the mesh's open border). A model NBS learned misses its underside; turned about a
-  /// symmetry axis, its holes' rims set the max, and the turned placement of a symmetric object counts as "elsewhere".
-  /// false: every sample counts (the test as first built). No effect on a closed model.
-  bool ambiguity_skips_holes = true;
   /// recognise_part: the models (best q_h first) whose best hypothesis crops a cluster that is not recognised as a
   /// whole; 0: no parts (recognise_part is recognise(), no crop check of an accepted whole)
   std::size_t part_models = 2;
@@ -534,18 +527,14 @@ private:
       const double far = setting_.ambiguity_distance * e.box.extent().norm();
       std::stable_sort(best_rated.begin(), best_rated.end(),
                        [](const auto& a, const auto& b) { return a.second > b.second; });
-      const auto differs = [&](const Pose& p) {
-        const SurfacePoseError d = e.metric->error(p, best.pose);
-        return (setting_.ambiguity_skips_holes ? d.add_s_max_covered_m : d.add_s_max_m) >= far;
-      };
       for (const auto& [pose, q] : best_rated) {
-        if (!differs(pose)) continue;
+        if (e.metric->error(pose, best.pose).add_s_max_m < far) continue;
         Pose alt = pose;
         double q_alt = q;
         const RefinedPose refined = refine_pose(e.samples, pose, cluster);
         if (refined.icp.applied()) {
           const double q_refined = quality(e, refined.pose, image);
-          if (q_refined >= q_alt && differs(refined.pose))
+          if (q_refined >= q_alt && e.metric->error(refined.pose, best.pose).add_s_max_m >= far)
             q_alt = q_refined, alt = refined.pose;
         }
         best.q_h_alternative = q_alt;
@@ -579,13 +568,7 @@ private:
     for (const Vec3& v : mesh.vertices) e.box.extend(v);
     e.mesh = std::make_unique<const IndexedMesh>(mesh);
     e.caster = std::make_unique<Caster>(*e.mesh);
-    if (setting_.reject_ambiguous) {
-      // Rim: the samples within 2 spacings of the open border (spacing of the metric's samples: sqrt(area / n)).
-      const std::span<const Vec3> v = validation_points(e);
-      const double spacing = std::sqrt(mesh.area() / static_cast<double>(v.size()));
-      const std::vector<Vec3> rim = spacing > 0.0 ? border_points(mesh, 0.5 * spacing) : std::vector<Vec3>{};
-      e.metric = std::make_unique<const SurfacePoseMetric>(v, rim, 2.0 * spacing);
-    }
+    if (setting_.reject_ambiguous) e.metric = std::make_unique<const SurfacePoseMetric>(validation_points(e));
     return e;
   }
 
