@@ -176,7 +176,7 @@ BENCHMARK(BM_DetectBoundariesBunny)->Unit(benchmark::kMillisecond);
 // Surface features (Sec. 4.5.1) of the voxels the last scan touched, over a 2 mm voxel space of the scans.
 void BM_UpdateSurfaceFeaturesBunny(benchmark::State& state) {
   const auto& m = bunny_mesh();
-  nbs::ProbabilisticVoxelSpace<> space(0.002, nbs::Aabb(Vec3(-0.12, -0.12, -0.01), Vec3(0.12, 0.12, 0.2)));
+  nbs::ProbabilisticVoxelSpace<> space(0.002, nbs::Aabb{Vec3(-0.12, -0.12, -0.01), Vec3(0.12, 0.12, 0.2)});
   for (const auto& s : bunny_scans()) (void)space.integrate(s);
   nbs::SurfaceFeatureMap features;
   for (auto _ : state) benchmark::DoNotOptimize(nbs::update_surface_features(features, space, m, nbs::Parameters{}));
@@ -250,7 +250,7 @@ int hash_streams() {
     print_hash("bunny 6 scans, noise-robust", m);
   }
   {
-    nbs::StreamingMesh m(nbs::Parameters{}, nbs::Aabb(Vec3(-0.05, -0.05, 0.0), Vec3(0.05, 0.05, 0.1)));
+    nbs::StreamingMesh m(nbs::Parameters{}, nbs::Aabb{Vec3(-0.05, -0.05, 0.0), Vec3(0.05, 0.05, 0.1)});
     for (std::size_t k = 3; k < scans.size(); ++k) (void)m.integrate(scans[k]);
     print_hash("bunny scans 4-6, box", m);
   }

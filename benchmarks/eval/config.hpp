@@ -144,7 +144,10 @@ void for_each_parameter(Parameters& p, F&& f) {
   }
   if (!j.is_object()) throw UsageError(origin + ": must be a JSON object");
   Setup s;
-  for (const auto& [key, value] : j.items()) {
+  for (const auto& item : j.items()) {
+    // named, not structured bindings: clang before 16 cannot capture those in the lambda below
+    const std::string& key = item.key();
+    const nlohmann::json& value = item.value();
     if (key == "sensor") {
       if (!value.is_string()) throw UsageError(origin + ": set-up key 'sensor' must be a string, got " + value.dump());
       s.sensor = value.get<std::string>();

@@ -38,7 +38,7 @@ bool left_out(int i, int j, int k, Opening o) {
 /// One end point per shell voxel (its centre), each measured by a beam from 0.1 m outside along the face normal, so
 /// the shell's inside stays unknown.
 Space shell_space(Opening o) {
-  Space space(kVoxel, nbs::Aabb(Vec3::Constant(-0.1), Vec3::Constant(0.1)));
+  Space space(kVoxel, nbs::Aabb{Vec3::Constant(-0.1), Vec3::Constant(0.1)});
   nbs::Scan scan;
   for (int i = -kHalf; i <= kHalf; ++i)
     for (int j = -kHalf; j <= kHalf; ++j)

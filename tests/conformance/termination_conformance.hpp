@@ -32,14 +32,12 @@ void check_termination_conformance(const T& criterion, const std::function<bool(
   static_assert(TerminationCriterion<T>);
   const std::vector<ModelProgress> grid = progress_grid();
   const T copy = criterion;
-  std::size_t done = 0;
   for (const ModelProgress& p : grid) {
     INFO("n_s " << p.scans << ", c_m " << p.estimated_coverage << ", d_m " << p.mean_density);
     const bool d = static_cast<bool>(criterion.done(p));
     REQUIRE(static_cast<bool>(criterion.done(p)) == d);
     REQUIRE(static_cast<bool>(copy.done(p)) == d);
     REQUIRE(d == oracle(p));
-    done += d ? 1 : 0;
   }
   if (monotone) {
     for (const ModelProgress& p : grid) {

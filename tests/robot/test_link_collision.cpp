@@ -500,7 +500,9 @@ TEST_CASE("mesh shapes: a 12-triangle box mesh hits exactly the voxels of the pr
           const Vec3 g = T_GW * c;
           const double d1 = detail::shape_distance(box, T, c), d2 = detail::shape_distance(box, T2, c);
           const double d12 = std::min(d1, d2), df = detail::shape_distance(flat, T, c);
-          for (const auto& [mesh, d] : {std::pair{&mesh_one, d1}, {&mesh_two, d12}, {&mesh_square, df}}) {
+          for (const auto& entry : {std::pair{&mesh_one, d1}, {&mesh_two, d12}, {&mesh_square, df}}) {
+            const auto* mesh = entry.first;  // not structured bindings: clang before 16 cannot capture those
+            const double d = entry.second;
             const auto mismatch = [&](const char* what, long& count) {
               if (count++ == 0)
                 first_mismatch = detail::concat(what, ": trial ", trial, " voxel ", x, " ", y, " ", z, " oracle ", d,

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <memory>
 #include <numeric>
@@ -131,6 +132,14 @@ void for_each_neighbour_pair(const std::vector<std::uint64_t>& keys, const Voxel
   return i;
 }
 
+/// A BlockBackend whose blocks tell which voxels were ever observed (the fast path of collect_unobserved). A concept
+/// of its own: a requires-expression naming B::Block inline in `if constexpr` is a hard error for clang before 16
+/// when B has no Block.
+template <class B>
+concept ObservedBlocks = BlockBackend<B> && requires(const typename B::Block& b, int i) {
+  { b.is_observed(i) } -> std::convertible_to<bool>;
+};
+
 /// Appends the packed keys of the never-observed voxels of `space` inside kb to `out` (at most `limit` in all).
 template <class B, class M>
 void collect_unobserved(const ProbabilisticVoxelSpace<B, M>& space, const KeyBox& kb, std::vector<std::uint64_t>& out,
@@ -140,9 +149,7 @@ void collect_unobserved(const ProbabilisticVoxelSpace<B, M>& space, const KeyBox
             " obstacle voxels (unknown ones included); raise max_voxels or set include_unknown = false");
     out.push_back(k.pack());
   };
-  if constexpr (BlockBackend<B> && requires(const typename B::Block& b, int i) {
-                  { b.is_observed(i) } -> std::convertible_to<bool>;
-                }) {
+  if constexpr (ObservedBlocks<B>) {
     // Block by block: a block never allocated holds only unknown voxels, an allocated one is read once.
     constexpr int e = B::kEdgeBits;
     typename B::template BasicReader<0> reader(space.backend());
