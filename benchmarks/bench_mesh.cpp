@@ -83,7 +83,11 @@ void build_plane(nbs::StreamingMesh& m, std::size_t n, unsigned seed) {
   std::uniform_real_distribution<double> j(-5e-5, 5e-5);
   const int side = static_cast<int>(std::sqrt(static_cast<double>(n)));
   for (int y = 0; y < side; ++y)
-    for (int x = 0; x < side; ++x) (void)m.insert(Vec3(x * 7e-4 + j(rng), y * 7e-4 + j(rng), j(rng)), Vec3(0, 0, -1));
+    for (int x = 0; x < side; ++x) {
+      // One draw per statement, z, y, x: the order gcc 12 drew the former one-expression form.
+      const double jz = j(rng), jy = j(rng), jx = j(rng);
+      (void)m.insert(Vec3(x * 7e-4 + jx, y * 7e-4 + jy, jz), Vec3(0, 0, -1));
+    }
 }
 
 /// Probe: dense random points on a 20 mm square in the middle of the model (rescan: rejections + refinements).
@@ -92,7 +96,8 @@ Stream plane_probe(double centre, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-0.01, 0.01), z(-5e-5, 5e-5);
   for (int i = 0; i < 200000; ++i) {
-    s.points.emplace_back(centre + u(rng), centre + u(rng), z(rng));
+    const double pz = z(rng), py = u(rng), px = u(rng);  // one draw per statement, gcc 12's former order
+    s.points.emplace_back(centre + px, centre + py, pz);
     s.los.emplace_back(0, 0, -1);
   }
   return s;

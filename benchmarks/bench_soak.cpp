@@ -134,8 +134,11 @@ double workspace_soak(int frames) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> pos(-1.8, 1.6), size(0.1, 0.4), height(0.05, 0.8);
   for (int i = 0; i < 40; ++i) {
-    const Vec3 lo(pos(rng), pos(rng), 0.0);
-    add_box(scene, lo, lo + Vec3(size(rng), size(rng), height(rng)));
+    // One draw per statement, in the order gcc 12 drew the former one-expression form (the reported scene).
+    const double y = pos(rng), x = pos(rng);
+    const double h = height(rng), sy = size(rng), sx = size(rng);
+    const Vec3 lo(x, y, 0.0);
+    add_box(scene, lo, lo + Vec3(sx, sy, h));
   }
   const nbs::embree::SimulatedScanner scanner(scene);
   nbs::AreaSensor cam;

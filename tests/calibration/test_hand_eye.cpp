@@ -61,7 +61,8 @@ Data simulate(std::uint64_t seed, int n, const Noise& noise = {}, double max_rol
   for (int k = 0; k < n; ++k) {
     const double tilt = uniform(0.17, 0.79), azimuth = uniform(0.0, 2.0 * std::numbers::pi);
     const Vec3 view = -Vec3(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
-    const Vec3 aim = kT_WT.translation() + Vec3(uniform(-0.03, 0.03), uniform(-0.03, 0.03), 0.0);
+    const double ax = uniform(-0.03, 0.03), ay = uniform(-0.03, 0.03);
+    const Vec3 aim = kT_WT.translation() + Vec3(ax, ay, 0.0);
     Mat3 R;
     R.col(2) = view;
     R.col(0) = view.unitOrthogonal();

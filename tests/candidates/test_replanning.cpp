@@ -13,6 +13,7 @@
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "../fcl/box_oracle.hpp"
 #include "nbs/candidates/replanning.hpp"
+#include "nbs_random.hpp"
 
 namespace {
 using nbs::Aabb;
@@ -130,7 +131,7 @@ TEST_CASE("Eq. 4.29 equals Eigen::AngleAxis", "[replanning]") {
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi);
   for (int i = 0; i < 200; ++i) {
-    const Vec3 a = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const Vec3 a = nbs_test::random_vec3(g, rng).normalized();
     const double beta = angle(rng);
     const Mat3 r = nbs::axis_rotation(a, beta);
     REQUIRE((r - Eigen::AngleAxisd(beta, a).toRotationMatrix()).cwiseAbs().maxCoeff() < 1e-12);
@@ -408,9 +409,9 @@ TEST_CASE("oriented box vs AABB overlap (SAT) agrees with corner projections", "
   for (int i = 0; i < 20000; ++i) {
     nbs::SensorHeadBox head;
     head.center_m = Vec3::Zero();
-    head.size_m = Vec3(size(rng), size(rng), size(rng));
+    head.size_m = nbs_test::random_vec3(size, rng);
     const Pose p = nbs::test::random_pose(rng, Vec3::Constant(-0.1), Vec3::Constant(0.1));
-    const Vec3 half(size(rng), size(rng), size(rng));
+    const Vec3 half = nbs_test::random_vec3(size, rng);
     const Aabb b{-0.5 * half, 0.5 * half};
     const bool sure = nbs::test::head_overlaps(head, p, b, -1e-9);
     const bool maybe = nbs::test::head_overlaps(head, p, b, 1e-9);

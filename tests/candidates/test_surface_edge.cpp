@@ -11,6 +11,7 @@
 
 #include "nbs/candidates/surface_edge_explorer.hpp"
 #include "nbs/core/detail/random.hpp"
+#include "nbs_random.hpp"
 
 using nbs::DensityClass;
 using nbs::Vec3;
@@ -79,7 +80,7 @@ TEST_CASE("SEE density: kd-tree classification equals the brute-force oracle on 
     const auto uniform = [&] { return double(nbs::detail::splitmix64(state++) >> 11) * 0x1.0p-53; };
     for (const Vec3& p : grid_patch())
       if (uniform() > 0.3 * p.x() / 0.02)  // thinner towards +x: a density gradient
-        pts.push_back(p + 0.0003 * Vec3(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5));
+        pts.push_back(p + 0.0003 * (nbs_test::random_vec3(uniform) - Vec3::Constant(0.5)));
     INFO("seed " << seed << ", " << pts.size() << " points");
     for (const int k : {5, 12, 18}) CHECK(nbs::classify_density(pts, 0.0025, k) == brute_force_classes(pts, 0.0025, k));
   }
@@ -89,7 +90,7 @@ TEST_CASE("SEE thinning: kept points pairwise farther than the spacing, every po
   std::vector<Vec3> pts;
   std::uint64_t state = 9;
   const auto uniform = [&] { return double(nbs::detail::splitmix64(state++) >> 11) * 0x1.0p-53; };
-  for (int i = 0; i < 2000; ++i) pts.emplace_back(0.03 * uniform(), 0.03 * uniform(), 0.002 * uniform());
+  for (int i = 0; i < 2000; ++i) pts.push_back(nbs_test::random_vec3(uniform).cwiseProduct(Vec3(0.03, 0.03, 0.002)));
   const double s = 0.002;
   const std::vector<std::size_t> kept = nbs::thin_points(pts, s);
   REQUIRE(kept.size() > 50);

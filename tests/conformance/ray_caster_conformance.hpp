@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "nbs/sim/ray_caster.hpp"
+#include "nbs_random.hpp"
 
 namespace nbs::conformance {
 
@@ -58,7 +59,7 @@ void check_ray_caster_conformance(const R& caster, const IndexedMesh& mesh, cons
     Vec3 o;
     for (int a = 0; a < 3; ++a)
       o[a] = box.min[a] - c.box_margin_m + u(rng) * (box.max[a] - box.min[a] + 2 * c.box_margin_m);
-    Vec3 d(g(rng), g(rng), g(rng));
+    Vec3 d = nbs_test::random_vec3(g, rng);
     if (i % 2 == 0) {  // aim at a random point of a random triangle
       const std::size_t t = tri(rng);
       double s1 = u(rng), s2 = u(rng);

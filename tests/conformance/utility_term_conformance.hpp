@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "nbs/utility/utility_term.hpp"
+#include "nbs_random.hpp"
 
 namespace nbs::conformance {
 
@@ -49,8 +50,7 @@ public:
         SurfaceFeatures f;
         f.mean_density = static_cast<float>(u(rng));
         f.border_share = static_cast<float>(u(rng));
-        f.mean_normal = Eigen::Vector3f(static_cast<float>(u(rng) - 0.5), static_cast<float>(u(rng) - 0.5),
-                                        static_cast<float>(u(rng) - 0.5));
+        f.mean_normal = (nbs_test::random_vec3(u, rng) - Vec3::Constant(0.5)).cast<float>();
         if (f.mean_normal.norm() > 1.0f) f.mean_normal.normalize();
         c.features = static_cast<int>(features_.size());
         features_.push_back(f);
@@ -72,7 +72,7 @@ public:
     for (int r = 0; r < rays; ++r) {
       StreamRay ray;
       VoxelKey k{key(rng), key(rng), key(rng)};
-      const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
+      const Vec3 dir = nbs_test::random_vec3(g, rng).normalized();
       const int length = len(rng);
       for (int i = 0; i < length; ++i) {
         const Cell& c = cell(k);

@@ -6,6 +6,7 @@
 
 #include "analytic_meshes.hpp"
 #include "nbs/embree/scene.hpp"
+#include "nbs_random.hpp"
 
 using nbs::Vec3;
 
@@ -18,7 +19,7 @@ TEST_CASE("Embree scene agrees with the brute-force ray caster", "[embree][scene
   const Vec3 origin(0.2, 0.1, 0.25);
   std::vector<Vec3> dirs;
   for (int i = 0; i < 3000; ++i) {
-    const Vec3 target(0.01 + 0.07 * u(rng), -0.02 + 0.07 * u(rng), 0.1 + 0.07 * u(rng));
+    const Vec3 target = Vec3(0.01, -0.02, 0.1) + 0.07 * nbs_test::random_vec3(u, rng);
     dirs.push_back((target - origin).normalized());
   }
   std::vector<float> packet(dirs.size()), single(dirs.size());

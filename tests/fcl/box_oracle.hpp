@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "nbs/candidates/collision.hpp"
+#include "nbs_random.hpp"
 
 namespace nbs::test {
 
@@ -91,7 +92,7 @@ inline Pose random_pose(std::mt19937_64& rng, const Vec3& lo, const Vec3& hi) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::normal_distribution<double> g;
   Pose p = Pose::Identity();
-  p.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+  p.linear() = nbs_test::random_quaternion(g, rng).normalized().toRotationMatrix();
   for (int i = 0; i < 3; ++i) p.translation()[i] = lo[i] + u(rng) * (hi[i] - lo[i]);
   return p;
 }

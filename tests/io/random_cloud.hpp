@@ -5,6 +5,7 @@
 #include <random>
 
 #include "nbs/io/point_cloud.hpp"
+#include "nbs_random.hpp"
 
 namespace nbs_test {
 
@@ -14,8 +15,8 @@ inline nbs::PointCloud random_cloud(std::size_t n, bool normals, bool colors, un
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   nbs::PointCloud c;
   for (std::size_t i = 0; i < n; ++i) {
-    c.points.emplace_back(u(rng), u(rng), u(rng));
-    if (normals) c.normals.push_back(nbs::Vec3(u(rng), u(rng), u(rng)).normalized());
+    c.points.push_back(nbs_test::random_vec3(u, rng));
+    if (normals) c.normals.push_back(nbs_test::random_vec3(u, rng).normalized());
     if (colors) c.colors.push_back({static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()),
                                     static_cast<std::uint8_t>(rng())});
   }

@@ -9,6 +9,7 @@
 #include "nbs/io/session_writer.hpp"
 #include "nbs_catch.hpp"
 #include "temp_dir.hpp"
+#include "nbs_random.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -18,8 +19,8 @@ using nbs::Vec3;
 Pose random_pose(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Pose T = Pose::Identity();
-  T.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
-  T.translation() = Vec3(u(rng), u(rng), u(rng));
+  T.linear() = nbs_test::random_quaternion(u, rng).normalized().toRotationMatrix();
+  T.translation() = nbs_test::random_vec3(u, rng);
   return T;
 }
 
@@ -28,8 +29,10 @@ nbs::Scan random_scan(unsigned seed, std::size_t profiles, std::size_t points) {
   std::uniform_real_distribution<double> u(-0.2, 0.2);
   nbs::Scan s;
   for (std::size_t k = 0; k < profiles; ++k) s.profile_poses.push_back(random_pose(rng));
-  for (std::size_t i = 0; i < points; ++i)
-    s.add_point(Vec3(u(rng), u(rng), u(rng)), static_cast<std::uint32_t>(rng() % profiles));
+  for (std::size_t i = 0; i < points; ++i) {
+    const Vec3 p = nbs_test::random_vec3(u, rng);
+    s.add_point(p, static_cast<std::uint32_t>(rng() % profiles));
+  }
   s.rays_cast = points + 17;
   return s;
 }

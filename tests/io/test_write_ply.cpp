@@ -9,12 +9,13 @@
 #include "nbs/io/write_ply.hpp"
 #include "nbs/mesh/ply.hpp"
 #include "temp_dir.hpp"
+#include "nbs_random.hpp"
 
 TEST_CASE("write_ply then load_mesh round-trips a mesh exactly in every encoding", "[io][ply]") {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   nbs::IndexedMesh m;
-  for (int i = 0; i < 50; ++i) m.vertices.emplace_back(u(rng), u(rng), u(rng));
+  for (int i = 0; i < 50; ++i) m.vertices.push_back(nbs_test::random_vec3(u, rng));
   for (std::uint32_t i = 0; i + 2 < 50; ++i) m.triangles.push_back({i, i + 1, i + 2});
   for (auto format : {nbs::PlyFormat::ascii, nbs::PlyFormat::binary_little_endian, nbs::PlyFormat::binary_big_endian}) {
     const std::string path = (nbs_test::temp_dir() / "roundtrip.ply").string();

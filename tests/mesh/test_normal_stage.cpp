@@ -96,7 +96,8 @@ TEST_CASE("normal stage: pending vertices, retries and verdicts equal a cache-fr
     const Vec3 los(0.0, 0.0, -1.0);  // exact in float, as StreamingMesh keeps it
     mesh.begin_scan();
     for (int i = 0; i < 3000; ++i) {
-      const Vec3 p(u(rng), u(rng), n(rng));
+      const double x = u(rng), y = u(rng);
+      const Vec3 p(x, y, n(rng));
       (void)mesh.insert(p, los);
       ref.insert(p, los);
     }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "nbs/mesh/detail/spatial_hash.hpp"
+#include "nbs_random.hpp"
 
 using nbs::Vec3;
 
@@ -29,11 +30,11 @@ TEST_CASE("spatial hash: ball and segment queries equal brute force, in the docu
   nbs::detail::SpatialHash grid(cell);
   std::vector<Vec3> pts;
   for (std::uint32_t i = 0; i < 4000; ++i) {
-    pts.emplace_back(u(rng), u(rng), u(rng));
+    pts.push_back(nbs_test::random_vec3(u, rng));
     grid.insert(pts.back(), i);
   }
   for (int q = 0; q < 300; ++q) {
-    const Vec3 c(u(rng), u(rng), u(rng));
+    const Vec3 c = nbs_test::random_vec3(u, rng);
     const double r = 0.001 + 0.007 * (q % 8) / 7.0;
     // Ball: the ids within r, in (cell_key, insertion) order.
     std::vector<std::uint32_t> got;
@@ -52,7 +53,7 @@ TEST_CASE("spatial hash: ball and segment queries equal brute force, in the docu
     const bool any_ball = grid.any_candidate(c, r, [&](std::uint32_t, const Vec3& p) { return (p - c).norm() < r; });
     CHECK(any_ball == std::any_of(pts.begin(), pts.end(), [&](const Vec3& p) { return (p - c).norm() < r; }));
     // Segment: true iff some point lies within r of c ± h·dir.
-    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 dir = nbs_test::random_vec3(u, rng).normalized();
     const double h = 0.002 * (q % 4), rs = 0.0005 + 0.001 * (q % 3);
     const auto near = [&](const Vec3& p) { return segment_distance(p, c, dir, h) < rs; };
     const bool any_seg =

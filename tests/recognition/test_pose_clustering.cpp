@@ -11,6 +11,7 @@
 #include "nbs/core/detail/random.hpp"
 #include "nbs/recognition/pose_clustering.hpp"
 #include "nbs/recognition/pose_fusion.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 
@@ -43,8 +44,8 @@ TEST_CASE("cluster_poses: a known cluster among outliers comes first with its me
   double member_score = 0;
   for (int i = 0; i < 20; ++i) {  // 20 members: ≤ ~2 mm and ≤ ~1.5° from the truth
     PoseHypothesis h;
-    const Vec3 w = 0.01 * Vec3(noise(rng), noise(rng), noise(rng));
-    h.pose = Eigen::Translation3d(truth.translation() + 0.001 * Vec3(noise(rng), noise(rng), noise(rng)).cwiseMax(-1.5).cwiseMin(1.5)) *
+    const Vec3 w = 0.01 * nbs_test::random_vec3(noise, rng);
+    h.pose = Eigen::Translation3d(truth.translation() + 0.001 * nbs_test::random_vec3(noise, rng).cwiseMax(-1.5).cwiseMin(1.5)) *
              Eigen::AngleAxisd(truth.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix());
     h.score = 1.0 + (i % 3);
     hyp.push_back(h);
@@ -55,8 +56,9 @@ TEST_CASE("cluster_poses: a known cluster among outliers comes first with its me
   }
   for (int i = 0; i < 30; ++i) {  // outliers: uniform in a 1 m box, random rotations, scores up to 5
     PoseHypothesis h;
-    h.pose = Eigen::Translation3d(Vec3(detail::uniform01(rng), detail::uniform01(rng), detail::uniform01(rng)) - Vec3(0.5, 0.5, 0.5) + Vec3(0, 0, 1)) *
-             Eigen::AngleAxisd(3.0 * detail::uniform01(rng), Vec3(noise(rng), noise(rng), noise(rng)).normalized());
+    const Vec3 t = nbs_test::random_vec3(detail::uniform01, rng) - Vec3(0.5, 0.5, 0.5) + Vec3(0, 0, 1);
+    const double angle = 3.0 * detail::uniform01(rng);
+    h.pose = Eigen::Translation3d(t) * Eigen::AngleAxisd(angle, nbs_test::random_vec3(noise, rng).normalized());
     h.score = 1.0 + 4.0 * detail::uniform01(rng);
     hyp.insert(hyp.begin() + std::min<std::ptrdiff_t>(2 * i, std::ssize(hyp)), h);  // interleaved
   }
@@ -111,9 +113,9 @@ TEST_CASE("PoseFusion: the mean pose of the largest cluster over views, outliers
   Vec3 t = Vec3::Zero();
   double score = 0.0;
   for (int view = 0; view < 15; ++view) {  // one hypothesis per view: ~3 mm and ~2° off the truth
-    const Vec3 w = 0.035 * Vec3(noise(rng), noise(rng), noise(rng)).cwiseMax(-2.0).cwiseMin(2.0);
+    const Vec3 w = 0.035 * nbs_test::random_vec3(noise, rng).cwiseMax(-2.0).cwiseMin(2.0);
     PoseHypothesis h;
-    h.pose = Eigen::Translation3d(truth.translation() + 0.003 * Vec3(noise(rng), noise(rng), noise(rng)).cwiseMax(-2.0).cwiseMin(2.0)) *
+    h.pose = Eigen::Translation3d(truth.translation() + 0.003 * nbs_test::random_vec3(noise, rng).cwiseMax(-2.0).cwiseMin(2.0)) *
              Eigen::AngleAxisd(truth.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix());
     h.score = 0.5 + 0.1 * view;  // e.g. q_h
     fusion.add(h);

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "nbs/recognition/pose_surface_error.hpp"
+#include "nbs_random.hpp"
 
 namespace {
 
@@ -58,7 +59,7 @@ TEST_CASE("ADD is the shift of a translation; ADD-S equals a brute-force nearest
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.05, 0.05);
   std::vector<Vec3> s(400);
-  for (Vec3& p : s) p = Vec3(u(rng), u(rng), 0.5 * u(rng));
+  for (Vec3& p : s) p = nbs_test::random_vec3(u, rng).cwiseProduct(Vec3(1.0, 1.0, 0.5));
   const nbs::SurfacePoseMetric m(s);
   const Pose truth = surface_error_pose(-1.1, Vec3(0.1, 0.2, 0.0));
   const Vec3 shift(0.003, -0.004, 0.0);  // 5 mm in the model frame

@@ -18,6 +18,7 @@
 #include "nbs/sensor/laser_stripe_profiler.hpp"
 #include "nbs/sim/sphere_on_pedestal.hpp"
 #include "nbs_pose.hpp"
+#include "nbs_random.hpp"
 
 using nbs_test::rigid_pose;
 
@@ -116,7 +117,7 @@ TEST_CASE("gripped object: the finger filter removes exactly the points within t
   std::vector<std::uint32_t> expected_profile;
   std::vector<nbs::Rgb> expected_colors;  // colours stay with their points
   for (int i = 0; i < 4000; ++i) {
-    const Vec3 p(u(rng), u(rng), 0.03 + u(rng));
+    const Vec3 p = nbs_test::random_vec3(u, rng) + Vec3(0.0, 0.0, 0.03);
     const auto k = static_cast<std::uint32_t>(i % 2);
     const nbs::Rgb c{static_cast<std::uint8_t>(i % 256), static_cast<std::uint8_t>(i / 256), 7};
     scan.add_point(p, k, c);

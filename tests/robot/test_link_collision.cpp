@@ -26,6 +26,7 @@
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "planar_robot.hpp"
 #include "sim/test_meshes.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 using nbs::test::PlanarArm;
@@ -205,7 +206,7 @@ TEST_CASE("LinkCollisionChecker agrees with a brute-force oracle over every voxe
           // Positions up to 3 cm beyond the bounds (clipping), random rotation vectors.
           JointVector q(6);
           for (int i = 0; i < 3; ++i) q[i] = -0.13 + 0.26 * u(rng);
-          Vec3 w(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+          Vec3 w = nbs_test::random_vec3(u, rng) - Vec3::Constant(0.5);
           w = w.normalized() * std::numbers::pi * u(rng);
           q.tail<3>() = w;
           const PlacedShape placed = body.collision_shapes(q).front();
@@ -297,7 +298,8 @@ TEST_CASE("LinkCollisionChecker: the table half-space against the links' lowest 
   std::uniform_real_distribution<double> ang(-std::numbers::pi, std::numbers::pi);
   int hits = 0, misses = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    const JointVector q = jv(ang(rng), ang(rng), ang(rng));
+    const Vec3 a = nbs_test::random_vec3(ang, rng);
+    const JointVector q = jv(a.x(), a.y(), a.z());
     // Oracle: the joint positions by hand; a capsule's lowest point is its lower end minus the radius 0.02.
     const double phi1 = q[0], phi2 = q[0] + q[1], phi3 = phi2 + q[2];
     const double z1 = arm.l[0] * std::cos(phi1), z2 = z1 + arm.l[1] * std::cos(phi2),
@@ -449,8 +451,8 @@ void append_box_mesh(IndexedMesh& m, const Vec3& size, const Vec3& c = Vec3::Zer
 Pose random_pose(std::mt19937_64& rng, double spread) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Pose T = Pose::Identity();
-  T.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
-  T.translation() = spread * Vec3(u(rng), u(rng), u(rng));
+  T.linear() = nbs_test::random_quaternion(u, rng).normalized().toRotationMatrix();
+  T.translation() = spread * nbs_test::random_vec3(u, rng);
   return T;
 }
 
@@ -552,7 +554,7 @@ TEST_CASE("LinkCollisionChecker: a link with a box mesh gives the same contacts 
   for (int trial = 0; trial < 300; ++trial) {
     JointVector q(6);
     for (int i = 0; i < 3; ++i) q[i] = -0.12 + 0.24 * u(rng);
-    Vec3 w(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    Vec3 w = nbs_test::random_vec3(u, rng) - Vec3::Constant(0.5);
     q.tail<3>() = w.normalized() * std::numbers::pi * u(rng);
     const auto ca = a.first_contact(q), cb = b.first_contact(q);
     INFO("q " << q.transpose());

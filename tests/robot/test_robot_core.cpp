@@ -62,8 +62,11 @@ TEST_CASE("FreeFlyingSensor: every pose is reachable, every path is flown, no li
   std::mt19937_64 rng(7);
   const auto u = [&] { return 2.0 * nbs::detail::uniform01(rng) - 1.0; };
   for (int i = 0; i < 100; ++i) {
-    const Pose T = rigid_pose(Eigen::Quaterniond(Eigen::Vector4d(u(), u(), u(), u()).normalized()).toRotationMatrix(),
-                             Vec3(u(), u(), u()));
+    Eigen::Vector4d q4;
+    for (int k = 0; k < 4; ++k) q4[k] = u();  // one draw per statement: drawn in order, whatever the compiler
+    Vec3 t;
+    for (int k = 0; k < 3; ++k) t[k] = u();
+    const Pose T = rigid_pose(Eigen::Quaterniond(q4.normalized()).toRotationMatrix(), t);
     const auto q = r.ik(T, JointVector::Zero(6));
     REQUIRE(q);
     CHECK((*q).head<3>().isApprox(T.translation(), 0.0));

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "nbs/scene/euclidean_clusters.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 using namespace nbs::scene;
@@ -38,10 +39,10 @@ TEST_CASE("euclidean_clusters equals brute-force single linkage", "[scene][clust
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 0.3), blob(-0.02, 0.02);
     std::vector<Vec3> p;
-    for (int i = 0; i < 600; ++i) p.push_back(Vec3(u(rng), u(rng), u(rng)));  // sparse background
+    for (int i = 0; i < 600; ++i) p.push_back(nbs_test::random_vec3(u, rng));  // sparse background
     for (int b = 0; b < 5; ++b) {  // dense blobs
-      const Vec3 c(u(rng), u(rng), u(rng));
-      for (int i = 0; i < 150; ++i) p.push_back(c + Vec3(blob(rng), blob(rng), blob(rng)));
+      const Vec3 c = nbs_test::random_vec3(u, rng);
+      for (int i = 0; i < 150; ++i) p.push_back(c + nbs_test::random_vec3(blob, rng));
     }
     for (const ClusterSettings s : {ClusterSettings{0.02, 1, 1'000'000}, ClusterSettings{0.015, 20, 400},
                                     ClusterSettings{0.03, 5, 1'000'000}}) {

@@ -10,6 +10,7 @@
 
 #include "nbs/scene/segmentation.hpp"
 #include "nbs/scene/support_plane.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 using namespace nbs::scene;
@@ -23,8 +24,11 @@ std::vector<Vec3> plane_with_outliers(const Vec3& n, std::uint64_t seed) {
   const Vec3 c(0.1, -0.2, 0.75);
   const Vec3 a = n.unitOrthogonal(), b = n.cross(a);
   std::vector<Vec3> p;
-  for (int i = 0; i < 7000; ++i) p.push_back(c + u(rng) * a + u(rng) * b + e(rng) * n);
-  for (int i = 0; i < 3000; ++i) p.push_back(c + Vec3(u(rng), u(rng), u(rng)));
+  for (int i = 0; i < 7000; ++i) {
+    const double s = u(rng), t = u(rng);
+    p.push_back(c + s * a + t * b + e(rng) * n);
+  }
+  for (int i = 0; i < 3000; ++i) p.push_back(c + nbs_test::random_vec3(u, rng));
   std::shuffle(p.begin(), p.end(), rng);
   return p;
 }

@@ -8,6 +8,7 @@
 #include "nbs/sim/completeness.hpp"
 #include "nbs/sim/observability.hpp"
 #include "test_meshes.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 
@@ -58,7 +59,7 @@ TEST_CASE("completeness equals the brute-force count, and the incremental tracke
   std::mt19937_64 rng(4);
   std::uniform_real_distribution<double> u(-0.01, 0.11);
   std::vector<Vec3> model(600);
-  for (auto& v : model) v = Vec3(u(rng), u(rng), u(rng));
+  for (auto& v : model) v = nbs_test::random_vec3(u, rng);
   const double r = 0.006;
   const Completeness one_shot = completeness(s, model, r, 1);
   CHECK(one_shot.covered == brute_force_covered(s, model, r));
@@ -95,7 +96,7 @@ TEST_CASE("CoverageTracker: vertex-driven and sample-driven adds both give the b
     for (bool c : tracker.covered()) uncovered += c ? 0 : 1;
     (uncovered < CoverageTracker::kSampleDrivenRatio * batch ? sample_driven : vertex_driven) += 1;
     std::vector<Vec3> fresh(batch);
-    for (auto& v : fresh) v = Vec3(u(rng), u(rng), u(rng));
+    for (auto& v : fresh) v = nbs_test::random_vec3(u, rng);
     tracker.add(fresh);
     model.insert(model.end(), fresh.begin(), fresh.end());
     for (std::size_t i = 0; i < s.size(); ++i) {

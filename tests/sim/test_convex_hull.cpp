@@ -13,6 +13,7 @@
 #include <string>
 
 #include "nbs/mesh/convex_hull.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 
@@ -53,8 +54,11 @@ TEST_CASE("convex hull of a cube with interior, face and edge points: 6 facets, 
   std::vector<Vec3> pts;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-0.99, 0.99);
-  for (int i = 0; i < 200; ++i) pts.emplace_back(u(rng), u(rng), u(rng));            // interior
-  for (int i = 0; i < 50; ++i) pts.emplace_back(u(rng), u(rng), (i % 2) ? 1.0 : -1.0);  // on the ±z faces
+  for (int i = 0; i < 200; ++i) pts.push_back(nbs_test::random_vec3(u, rng));  // interior
+  for (int i = 0; i < 50; ++i) {                                                // on the ±z faces
+    const double x = u(rng), y = u(rng);
+    pts.emplace_back(x, y, (i % 2) ? 1.0 : -1.0);
+  }
   for (int i = 0; i < 20; ++i) pts.emplace_back(1.0, u(rng), 1.0);                    // on an edge
   for (int c = 0; c < 8; ++c) pts.emplace_back(c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : -1.0);
   pts.push_back(pts.back());  // a duplicate corner
@@ -78,8 +82,8 @@ TEST_CASE("convex hull of random points on a sphere contains every point, V - E 
   std::mt19937_64 rng(3);
   std::normal_distribution<double> g;
   std::vector<Vec3> pts;
-  for (int i = 0; i < 2000; ++i) pts.push_back(0.05 * Vec3(g(rng), g(rng), g(rng)).normalized() + Vec3(1, 2, 0));
-  for (int i = 0; i < 500; ++i) pts.push_back(0.03 * Vec3(g(rng), g(rng), g(rng)).normalized() + Vec3(1, 2, 0));
+  for (int i = 0; i < 2000; ++i) pts.push_back(0.05 * nbs_test::random_vec3(g, rng).normalized() + Vec3(1, 2, 0));
+  for (int i = 0; i < 500; ++i) pts.push_back(0.03 * nbs_test::random_vec3(g, rng).normalized() + Vec3(1, 2, 0));
   const ConvexHull h = convex_hull(pts);
   CHECK(h.vertices.size() == 2000);  // every sphere point is a vertex, no inner one
   check_hull(h, pts);

@@ -7,6 +7,7 @@
 
 #include "nbs/sim/mesh_distance.hpp"
 #include "test_meshes.hpp"
+#include "nbs_random.hpp"
 
 using namespace nbs;
 
@@ -29,8 +30,8 @@ TEST_CASE("closest_point_on_triangle is never beaten by points of the triangle",
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(-1, 1), w(0, 1);
   for (int trial = 0; trial < 200; ++trial) {
-    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
-    const Vec3 p = 2.0 * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 a = nbs_test::random_vec3(u, rng), b = nbs_test::random_vec3(u, rng), c = nbs_test::random_vec3(u, rng);
+    const Vec3 p = 2.0 * nbs_test::random_vec3(u, rng);
     const Vec3 q = closest_point_on_triangle(p, a, b, c);
     const double d = (q - p).norm();
     for (int k = 0; k < 200; ++k) {
@@ -50,14 +51,14 @@ TEST_CASE("MeshDistance equals brute force over all triangles", "[sim][distance]
   IndexedMesh m = test::uv_sphere({0, 0, 0.2}, 0.1, 12, 24);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> jitter(-0.01, 0.01), u(-0.3, 0.5);
-  for (auto& v : m.vertices) v += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  for (auto& v : m.vertices) v += nbs_test::random_vec3(jitter, rng);
   const auto base = static_cast<std::uint32_t>(m.vertices.size());
   m.vertices.insert(m.vertices.end(), {{-0.5, -0.5, 0}, {0.6, -0.5, 0}, {0, 0.6, 0}, {0.3, 0.3, 0.3}, {0.4, 0.4, 0.4}});
   m.triangles.push_back({base, base + 1, base + 2});
   m.triangles.push_back({base + 3, base + 4, base + 3});
   const MeshDistance md(m);
   std::vector<Vec3> queries(400);
-  for (auto& q : queries) q = Vec3(u(rng), u(rng), u(rng));
+  for (auto& q : queries) q = nbs_test::random_vec3(u, rng);
   const std::vector<double> fast = md.distances(queries, 2);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     double best = std::numeric_limits<double>::infinity();

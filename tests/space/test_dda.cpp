@@ -12,6 +12,7 @@
 
 #include "nbs/space/detail/segment_walker.hpp"
 #include "nbs/space/ray_traversal.hpp"
+#include "nbs_random.hpp"
 
 namespace {
 
@@ -99,8 +100,14 @@ void check_segment(const Vec3& a, const Vec3& b, bool brute_force) {
 TEST_CASE("DDA visits exactly the voxels a random segment crosses", "[space][dda]") {
   std::mt19937_64 rng(20240611);
   std::uniform_real_distribution<double> u(-6.0, 6.0), v(-20.0, 20.0);
-  for (int i = 0; i < 3000; ++i) check_segment(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), true);
-  for (int i = 0; i < 100; ++i) check_segment(Vec3(v(rng), v(rng), v(rng)), Vec3(v(rng), v(rng), v(rng)), true);
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 a = nbs_test::random_vec3(u, rng);
+    check_segment(a, nbs_test::random_vec3(u, rng), true);
+  }
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 a = nbs_test::random_vec3(v, rng);
+    check_segment(a, nbs_test::random_vec3(v, rng), true);
+  }
 }
 
 TEST_CASE("DDA on degenerate segments: axis-parallel, through edges and corners, single voxel", "[space][dda]") {
@@ -117,7 +124,10 @@ TEST_CASE("DDA over the whole key range does not overflow", "[space][dda]") {
   std::mt19937_64 rng(99);
   const double lim = 1048575.0;
   std::uniform_real_distribution<double> u(-lim, lim);
-  for (int i = 0; i < 3; ++i) check_segment(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), false);
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 a = nbs_test::random_vec3(u, rng);
+    check_segment(a, nbs_test::random_vec3(u, rng), false);
+  }
   check_segment(Vec3(-lim - 0.5, -lim - 0.5, -lim - 0.5), Vec3(lim, lim, lim), false);
 }
 
@@ -157,7 +167,10 @@ TEST_CASE("common-denominator stepper takes the same steps as SegmentWalker, tie
   std::uniform_real_distribution<double> u(-30.0, 30.0);
   std::uniform_int_distribution<int> q(-8 * 1024, 8 * 1024), g(-6, 6);
   int compared = 0;  // make() declines ends on faces moving down (about 1 in 700 random segments)
-  for (int i = 0; i < 20000; ++i) compared += same_steps(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)));
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 a = nbs_test::random_vec3(u, rng);
+    compared += same_steps(a, nbs_test::random_vec3(u, rng));
+  }
   REQUIRE(compared > 19900);
   compared = 0;
   // End points on the 1/1024 lattice and on voxel corners: many exact ties between axes and at the end.
@@ -167,11 +180,16 @@ TEST_CASE("common-denominator stepper takes the same steps as SegmentWalker, tie
   };
   const auto lattice = [&] { return vec(q, 1.0 / 1024.0); };
   const auto corner = [&] { return vec(g, 1.0); };
-  for (int i = 0; i < 20000; ++i) compared += same_steps(lattice(), lattice()) ? 1 : 0;
+  // One draw per statement: the two end points of one call would be drawn in an unspecified order.
+  const auto same_steps_of = [&](const auto& draw, const Vec3& shift) {
+    const Vec3 a = draw();
+    return same_steps(a, draw() + shift) ? 1 : 0;
+  };
+  for (int i = 0; i < 20000; ++i) compared += same_steps_of(lattice, Vec3::Zero());
   REQUIRE(compared > 19000);
   compared = 0;
-  for (int i = 0; i < 5000; ++i) compared += same_steps(corner(), corner()) ? 1 : 0;
-  for (int i = 0; i < 5000; ++i) compared += same_steps(corner(), corner() + Vec3(0.0, 0.0, 0.5)) ? 1 : 0;
+  for (int i = 0; i < 5000; ++i) compared += same_steps_of(corner, Vec3::Zero());
+  for (int i = 0; i < 5000; ++i) compared += same_steps_of(corner, Vec3(0.0, 0.0, 0.5));
   REQUIRE(compared > 1000);  // corner to corner: mostly declined (downward axes end on faces)
   // Ends on faces moving up, and starts on faces moving down, are served: their extra crossings have t > 1.
   REQUIRE(same_steps(Vec3(0.5, 0.5, 0.5), Vec3(3.0, 2.0, 0.5)));
@@ -213,7 +231,7 @@ TEST_CASE("the walk's fixed-point keys are VoxelGrid::key_of of the same point",
     const nbs::VoxelGrid g(res);
     for (int i = 0; i < 20000; ++i) {
       // random points and points on (or one ulp beside) voxel faces, where floor decides
-      Vec3 p(u(rng), u(rng), u(rng));
+      Vec3 p = nbs_test::random_vec3(u, rng);
       if (i % 2 == 1) {
         const double x = q(rng) * res, y = q(rng) * res, z = q(rng) * res;
         p = Vec3(std::nextafter(x, i % 4 == 1 ? -1.0 : 1.0), y, z);

@@ -11,6 +11,7 @@
 #include "support/single_beam.hpp"
 #include "support/synthetic_scan.hpp"
 #include "support/test_boxes.hpp"
+#include "nbs_random.hpp"
 
 namespace {
 using nbs::Vec3;
@@ -142,11 +143,12 @@ nbs::Scan random_scan(std::mt19937_64& rng, int profiles, int rays) {
   nbs::Scan s;
   for (int p = 0; p < profiles; ++p) {
     nbs::Pose pose = nbs::Pose::Identity();
-    pose.translation() = (Vec3(0.0, 0.0, 0.1) + r(rng) * Vec3(u(rng), u(rng), u(rng)).normalized()).cast<float>().cast<double>();
+    const double radius = r(rng);
+    pose.translation() = (Vec3(0.0, 0.0, 0.1) + radius * nbs_test::random_vec3(u, rng).normalized()).cast<float>().cast<double>();
     s.profile_poses.push_back(pose);
-    const Vec3 aim(0.09 * u(rng), 0.09 * u(rng), 0.1 + 0.09 * u(rng));
+    const Vec3 aim = Vec3(0.0, 0.0, 0.1) + 0.09 * nbs_test::random_vec3(u, rng);
     for (int i = 0; i < rays; ++i)  // a cluster around `aim`, so beams revisit voxels within the scan
-      s.add_point((aim + 0.02 * Vec3(u(rng), u(rng), u(rng))).cast<float>().cast<double>(), static_cast<std::uint32_t>(p));
+      s.add_point((aim + 0.02 * nbs_test::random_vec3(u, rng)).cast<float>().cast<double>(), static_cast<std::uint32_t>(p));
   }
   s.rays_cast = s.points.size();
   return s;

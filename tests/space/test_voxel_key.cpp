@@ -9,6 +9,7 @@
 
 #include "nbs/space/key_slots.hpp"
 #include "nbs/space/voxel_key.hpp"
+#include "nbs_random.hpp"
 
 using nbs::VoxelKey;
 
@@ -50,7 +51,7 @@ TEST_CASE("VoxelGrid::in_voxel(p, k) is key_of(p) == k", "[space][key]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int i = 0; i < 20000; ++i) {
     // random points, and points exactly on voxel faces (multiples of l_v) where floor decides
-    const nbs::Vec3 p = i % 2 == 0 ? nbs::Vec3(u(rng), u(rng), u(rng)) : nbs::Vec3(q(rng), q(rng), q(rng)) * 0.003;
+    const nbs::Vec3 p = i % 2 == 0 ? nbs_test::random_vec3(u, rng) : nbs_test::random_vec3(q, rng) * 0.003;
     const VoxelKey k = *g.key_of(p);
     REQUIRE(g.in_voxel(p, k));
     const VoxelKey n{k.x + dk(rng), k.y + dk(rng), k.z + dk(rng)};

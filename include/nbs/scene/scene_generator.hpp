@@ -133,7 +133,10 @@ struct SimulatedScene {
       // Translation range keeping the hull on the table; none if the rotated object is larger than the table.
       const double tx_lo = -hx - lo.x(), tx_hi = hx - hi.x(), ty_lo = -hy - lo.y(), ty_hi = hy - hi.y();
       if (tx_lo > tx_hi || ty_lo > ty_hi) continue;
-      detail::Vec2 t(tx_lo + (tx_hi - tx_lo) * u01(), ty_lo + (ty_hi - ty_lo) * u01());
+      // y before x, in two statements: the order of draws within one expression is unspecified (gcc and clang
+      // differ); this is the order gcc 12 drew the former one-expression form, so seeds keep their documented scenes.
+      const double uy = u01(), ux = u01();
+      detail::Vec2 t(tx_lo + (tx_hi - tx_lo) * ux, ty_lo + (ty_hi - ty_lo) * uy);
       if (settings.max_gap_m && !scene.objects.empty()) {
         // Aim next to a random placed object: within the sum of both radii plus the gap of its centre.
         const auto& other = scene.objects[static_cast<std::size_t>(u01() * static_cast<double>(scene.objects.size()))];

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "nbs/space/probabilistic_voxel_space.hpp"
+#include "nbs_random.hpp"
 
 namespace nbs::test {
 
@@ -14,8 +15,8 @@ inline std::vector<Ray> random_rays(std::size_t n, std::uint64_t seed) {
   std::uniform_real_distribution<double> u(-0.25, 0.25);
   std::vector<Ray> rays(n);
   for (auto& r : rays) {
-    r.origin = Vec3(u(rng), u(rng), 0.1 + u(rng));
-    r.end = Vec3(0.3 * u(rng), 0.3 * u(rng), 0.08 + 0.3 * u(rng));
+    r.origin = nbs_test::random_vec3(u, rng) + Vec3(0.0, 0.0, 0.1);
+    r.end = 0.3 * nbs_test::random_vec3(u, rng) + Vec3(0.0, 0.0, 0.08);
   }
   return rays;
 }

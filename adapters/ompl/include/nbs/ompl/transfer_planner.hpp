@@ -68,8 +68,12 @@ public:
   }
   void sampleUniform(::ompl::base::State* s) override {
     auto* st = s->as<::ompl::base::SE3StateSpace::StateType>();
-    st->setXYZ(rng_.uniformReal(box_.min.x(), box_.max.x()), rng_.uniformReal(box_.min.y(), box_.max.y()),
-               rng_.uniformReal(box_.min.z(), box_.max.z()));
+    // One draw per statement, z first: the order gcc drew the former one-expression form (the order of draws
+    // within one expression is unspecified; clang drew x first), so a seed gives the same states with any compiler.
+    const double z = rng_.uniformReal(box_.min.z(), box_.max.z());
+    const double y = rng_.uniformReal(box_.min.y(), box_.max.y());
+    const double x = rng_.uniformReal(box_.min.x(), box_.max.x());
+    st->setXYZ(x, y, z);
     double q[4];
     rng_.quaternion(q);
     auto& r = st->rotation();
