@@ -4,7 +4,7 @@
 # Usage: scripts/install-deps.sh [--with-plots] [--with-fuzz] [--with-docs] [--with-browser] [--with-npm]
 #                                [--with-bench-incumbents]
 #   --with-plots             adds python3-matplotlib for benchmarks/plots
-#   --with-fuzz              adds clang and libFuzzer for scripts/fuzz.sh
+#   --with-fuzz              adds clang and libFuzzer for scripts/fuzz.sh (and scripts/test.sh's ASan build)
 #   --with-docs              adds doxygen and graphviz for scripts/docs.sh
 #   --with-browser           adds chromium for the session viewer's browser test (tests/viewer)
 #   --with-npm               adds npm for scripts/install-viewer.sh (three.js)

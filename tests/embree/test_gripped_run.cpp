@@ -27,6 +27,7 @@
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/ground_truth.hpp"
+#include "nbs_sanitizer.hpp"
 
 namespace {
 
@@ -104,11 +105,7 @@ GrippedRun run_gripped(int max_scans, bool own_stop, bool filter = true, std::ui
 // 0.884 (4354 samples), in it 0.872 (195 samples). Without the filter (the inner driver directly) the model has
 // vertices on and in the fingers (nearest −4.6 mm, i.e. inside) and the finger region looks covered (c_a 0.995) by
 // finger points: the bound discriminates.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;  // ASan + UBSan: 3 scans, the filter only (time)
-#else
-constexpr bool kSanitized = false;
-#endif
+constexpr bool kSanitized = nbs_test::kAddressSanitizer;  // ASan + UBSan: 3 scans, the filter only (time)
 TEST_CASE("gripped bunny: no fused vertex on a finger, the object outside the finger region is modeled",
           "[embree][gripped]") {
   const GrippedRun r = run_gripped(kSanitized ? 3 : 6, false);

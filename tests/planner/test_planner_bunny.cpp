@@ -20,6 +20,7 @@
 #include "nbs/sim/metrics.hpp"
 #include "nbs/sim/test_objects.hpp"
 #include "support/same_plan.hpp"
+#include "nbs_sanitizer.hpp"
 
 namespace {
 
@@ -69,11 +70,7 @@ TEST_CASE("bunny loop: same seed gives the same scan sequence with 1 and 2 threa
 // The acceptance target of issue 5, default NbsPlanner<> (noise-robust mesh, then unseen_open ĉ_m). Release (2 threads):
 // seed 1 stops at ĉ_m 0.806 after 8 scans; the thesis's mesh and ĉ_m (ThesisMeshPlanner, second case):
 // 0.818 after 14. Under ASan + UBSan the loops run six scans only (time), which checks memory safety, not the target.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+constexpr bool kSanitized = nbs_test::kAddressSanitizer;
 namespace {
 /// The C_H loop on the bunny with Planner (2 threads, seed 1): Release reaches ĉ_m ≥ 0.8 within n_abort scans;
 /// under the sanitizers six scans run and raise ĉ_m.
