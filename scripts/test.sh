@@ -42,9 +42,10 @@ phase() {  # name, command...: runs the command and prints how long it took
   echo "=== [$name] took $((SECONDS - start)) s"
 }
 
-# The ASan build uses clang, which compiles these tests in about a third of gcc's time (the CI's time is compile
-# time; the code is also built -Werror by two compilers), at -O0 -g1 (file:line stacks), except the tests that run
-# long (tests/CMakeLists.txt NBS_SLOW_TESTS: -O1, Eigen unoptimised is ~8× slower). Its folder names the compiler:
+# The ASan build uses clang (summed target time of its build about a third of gcc's, the CI's ASan step about
+# half: the CI's time is compile time; the code is also built -Werror by two compilers), at -O0 -g1 (file:line
+# stacks), except the tests that run long (tests/CMakeLists.txt NBS_SLOW_TESTS: -O1, Eigen unoptimised is ~8×
+# slower). Its folder names the compiler:
 # CMake drops a cache whose compiler changes, with every option in it. Release and TSan use the default c++ (gcc
 # on Debian); TSan keeps -O1 (it builds only five executables).
 asan_flags="-O0 -g1 -DNDEBUG" tsan_flags="-O1 -g1 -DNDEBUG"
