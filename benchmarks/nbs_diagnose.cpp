@@ -10,7 +10,7 @@
 // generated candidates). A research tool, not part of the headline benchmarks.
 //
 // usage: nbs_diagnose [--mesh PATH] [--up x|y|z] [--size M] [--seed N] [--method CODE] [--sensor NAME] [--scans N]
-//                     [--search S|B|H] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG|SG] [--oracle] [--sampling P,R]
+//                     [--search S|B|H] [--selection R|I|Q|C|OA|UV|RSV|RSE|PC|AE|VG|SG|SGU] [--oracle] [--sampling P,R]
 //                     [--threads N] [--hmax N] [--thesis-mesh] [--config FILE]   (`--help`; options shared with the
 // other tools: tools/common/options.hpp; a bad value prints the option and the value and exits 2)
 // The planner's defaults: noise-robust mesh, unknown_open ĉ_m. --thesis-mesh uses the thesis's mesh and ĉ_m
@@ -18,7 +18,8 @@
 // Environment: NBS_DIAG_FEATURES=1 prints per step the number of voxels with surface features and their mean b_i, d̄_i
 // and 1 − q_i (Eqs. 4.26, 4.28, 4.33), the share with b_i > 0; NBS_DIAG_DUMP=PREFIX
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction, length and source of every
-// candidate; NBS_DIAG_ALT=CODE,CODE adds the utilities of those selections for the same candidates as columns);
+// candidate; NBS_DIAG_ALT=CODE,CODE adds the utilities of those selections for the same candidates as columns, GU:
+// SGU's unseen-surface gain g_u alone, GU<mm>: from the samples at least mm from their loop's edge);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
 // (see print_coverage_terms); with it, NBS_DIAG_LOOPS=K also prints the K loops of largest unseen area and where the
 // triangle area lies by face tilt (see print_loops).
@@ -152,7 +153,13 @@ struct DiagnosticUtility {
           std::string list = codes;
           for (std::size_t p = 0; p <= list.size();) {
             const std::size_t q = std::min(list.find(',', p), list.size());
-            if (q > p) {
+            if (q > p && list.compare(p, 2, "GU") == 0) {  // GU[mm]: g_u alone (voxel faces), samples at least mm
+              const std::string mm = list.substr(p + 2, q - p - 2);   // from their loop's edge (all if no number)
+              const nbs::UnseenSurfaceMap map = nbs::UnseenSurfaceMap::build(
+                  ctx.unseen_surface, space.grid(), mm.empty() ? 0.0 : 1e-3 * std::atof(mm.c_str()));
+              alt_names.push_back(list.substr(p, q - p));
+              alt.push_back(nbs::evaluate_candidates(paths, sensor, space, nbs::UnseenSurfaceVI(&map), eval).values);
+            } else if (q > p) {
               nbs::SelectionUtility v;
               v.setting.selection = nbs::parse_selection(list.substr(p, q - p));
               alt_names.push_back(list.substr(p, q - p));
@@ -418,6 +425,16 @@ int run(const Options& opt) {
                        smp.normals[i].y(), smp.normals[i].z(), planner.space().probability(x),
                        k ? int(planner.space().observed(*k)) : -1);
         }
+        std::fclose(f);
+      }
+    }
+    if (const char* dump = std::getenv("NBS_DIAG_UNSEEN")) {  // where ĉ_m puts the missing surface (SGU's input)
+      const std::string name = std::string(dump) + "_" + std::to_string(r.scan) + ".csv";
+      if (std::FILE* f = std::fopen(name.c_str(), "w")) {
+        std::fprintf(f, "x,y,z,area,d\n");
+        for (const nbs::UnseenSample& u : planner.utility_context().unseen_surface)
+          std::fprintf(f, "%.4f,%.4f,%.4f,%.4g,%.4f\n", u.position.x(), u.position.y(), u.position.z(), u.area_m2,
+                       u.edge_distance_m);
         std::fclose(f);
       }
     }

@@ -8,11 +8,13 @@
 /// name (Tab. 4.3, SI units, e.g. "voxel_size_m": 0.005, "max_scans": 30), "sensor": a laser stripe profiler preset
 /// ("dlr_lsp", "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unknown_open"
 /// (default) | "unseen_open" | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
-/// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs).
+/// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs), "unseen_weight" (β of SGU, ≥ 0) and
+/// "unseen_min_edge_distance_m" (SGU, metres, ≥ 0) (RuntimeModels::selection).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <fstream>
@@ -131,6 +133,8 @@ void for_each_parameter(Parameters& p, F&& f) {
   j["mesh"] = detail::kMeshNames[s.models.noise_robust_mesh ? 1 : 0];
   j["coverage_estimate"] = kCoverageEstimateNames[static_cast<std::size_t>(s.models.coverage_estimate)];
   j["keep_exploring"] = s.planner.keep_exploring;
+  j["unseen_weight"] = s.models.selection.unseen_weight;
+  j["unseen_min_edge_distance_m"] = s.models.selection.unseen_min_edge_distance_m;
   return j;
 }
 
@@ -163,6 +167,13 @@ void for_each_parameter(Parameters& p, F&& f) {
         s.models.coverage_estimate = static_cast<CoverageEstimate>(detail::choice(value, key, kCoverageEstimateNames));
         continue;
       }
+      if (key == "unseen_weight" || key == "unseen_min_edge_distance_m") {
+        if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0.0)
+          throw UsageError("set-up key '" + key + "' must be a finite number >= 0, got " + value.dump());
+        (key == "unseen_weight" ? s.models.selection.unseen_weight : s.models.selection.unseen_min_edge_distance_m) =
+            value.get<double>();
+        continue;
+      }
       if (key == "keep_exploring") {
         if (!value.is_boolean()) throw UsageError("set-up key 'keep_exploring' must be true or false, got " + value.dump());
         s.planner.keep_exploring = value.get<bool>();
@@ -185,7 +196,7 @@ void for_each_parameter(Parameters& p, F&& f) {
     if (!found) {
       std::string valid;
       detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
-      throw UsageError(origin + ": unknown set-up key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring)");
+      throw UsageError(origin + ": unknown set-up key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring, unseen_weight, unseen_min_edge_distance_m)");
     }
   }
   try {
@@ -243,7 +254,9 @@ inline constexpr std::string_view kUsage =
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
     "  --setup FILE      planner set-up, JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp |\n"
     "                    scancontrol_2700_100, \"mesh\": noise_robust | thesis, \"coverage_estimate\": unknown_open |\n"
-    "                    unseen_open | unseen_loops | thesis, \"keep_exploring\": true | false (defaults first;\n"
+    "                    unseen_open | unseen_loops | thesis, \"keep_exploring\": true | false, \"unseen_weight\":\n"
+    "                    beta >= 0 of SGU (default 16), \"unseen_min_edge_distance_m\": SGU (default 0.005)\n"
+    "                    (defaults first;\n"
     "                    docs/eval/configs/thesis.json: the thesis's)\n"
     "  --sensor NAME     laser stripe profiler preset: dlr_lsp | scancontrol_2700_100; overrides the set-up's\n"
     "                    \"sensor\" (default: the set-up's, dlr_lsp)\n"

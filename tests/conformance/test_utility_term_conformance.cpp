@@ -7,6 +7,7 @@
 #include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/surface_gain.hpp"
 #include "nbs/utility/thesis_terms.hpp"
+#include "nbs/utility/unseen_surface.hpp"
 
 namespace {
 
@@ -95,6 +96,31 @@ TEST_CASE("UtilityTerm conformance: thesis terms (Eqs. 4.30-4.34) and RandomSele
   check_utility_term_conformance(nbs::SurfaceGain(sg, lengths), world(), [&](std::size_t i, const CandidateStream& s) {
     nbs::SurfaceGain plain(sg);
     return nbs::conformance::evaluate(plain, i, s) / (lengths[i] + sg.length_offset_m);
+  });
+  // SGU: unseen fan samples in every third voxel of the world (voxel centres, l_v = 5 mm); oracle: the map's value
+  // summed over the distinct unobserved voxels the candidate's rays visit, plus SG's bracket.
+  const int n = RandomVoxelWorld::n;
+  std::vector<nbs::UnseenSample> samples;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        if ((x + 2 * y + 5 * z) % 3 == 0) samples.push_back({nbs::Vec3(x + 0.5, y + 0.5, z + 0.5) * 0.005, 1e-5 * (1 + x % 4)});
+  const nbs::UnseenSurfaceMap map = nbs::UnseenSurfaceMap::build(samples, nbs::VoxelGrid(0.005));
+  REQUIRE(map.voxels() == samples.size());
+  const auto unseen_oracle = [&](const CandidateStream& s) {
+    double sum = 0.0;
+    for (const auto& r : s)
+      for (const auto& v : r.visits)
+        if (v.first_visit && !v.observed) sum += map.at(v.key);
+    return sum;
+  };
+  check_utility_term_conformance(nbs::UnseenSurfaceVI(&map), world(),
+                                 [&](std::size_t, const CandidateStream& s) { return unseen_oracle(s); });
+  sg.modeling = false;
+  sg.unseen_weight = 3.0;
+  check_utility_term_conformance(nbs::SurfaceGain(sg, {}, &map), world(), [&](std::size_t i, const CandidateStream& s) {
+    nbs::RearSideEntropyVI r;
+    return (nbs::conformance::evaluate(r, i, s) + 3.0 * unseen_oracle(s)) / 2.0;
   });
   const nbs::RandomSelection random({42});
   check_utility_term_conformance(random, world(), [&](std::size_t i, const CandidateStream&) {

@@ -258,6 +258,15 @@ TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK_FALSE(back.models.noise_robust_mesh);
   CHECK(back.models.coverage_estimate == nbs::CoverageEstimate::thesis);
   CHECK_FALSE(back.planner.keep_exploring);
+  // SGU's options (the selection options of the runtime facade): defaults, values, round trip, bad values.
+  CHECK(d.models.selection == nbs::SelectionOptions{});
+  const nbs::eval::Setup u =
+      nbs::eval::parse_setup(R"({"unseen_weight": 4, "unseen_min_edge_distance_m": 0.01})", "cfg");
+  CHECK(u.models.selection.unseen_weight == 4.0);
+  CHECK(u.models.selection.unseen_min_edge_distance_m == 0.01);
+  CHECK(nbs::eval::parse_setup(nbs::eval::setup_json(u).dump(), "cfg").models == u.models);
+  for (const char* bad : {R"({"unseen_weight": -1})", R"({"unseen_weight": "a"})", R"({"unseen_min_edge_distance_m": -0.1})"})
+    CHECK_THROWS_WITH(nbs::eval::parse_setup(bad, "cfg"), nbs_test::Contains("must be a finite number >= 0"));
 }
 
 TEST_CASE("set-up file: fields by name, errors name the key", "[eval]") {

@@ -174,9 +174,9 @@ TEST_CASE("runtime facade: every method code parses and round-trips; unknown cod
     codes.insert(code);
   }
   CHECK(codes.size() == nbs::kAllMethods.size());
-  CHECK(codes.size() == 21);
+  CHECK(codes.size() == 22);
   for (const char* c : {"R_S", "R_B", "R_H", "I_S", "I_B", "I_H", "Q_S", "Q_B", "Q_H", "C_S", "C_B", "C_H", "OA_H",
-                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H", "SG_H", "SEE"})
+                        "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H", "SG_H", "SGU_H", "SEE"})
     CHECK(codes.count(c) == 1);
   CHECK(nbs::parse_method(" c_h ") == nbs::Method{nbs::Selection::ig_quality, nbs::SearchSpace::boundary_hole});
   CHECK(nbs::parse_method("r_s") == nbs::Method{nbs::Selection::random, nbs::SearchSpace::sphere});
@@ -305,6 +305,41 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
         nbs::UnseenLoopCoverage{{.enclosure = true, .free_space = false}}.estimate(in).coverage);
   CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::thesis}}.estimate(in).coverage ==
         std::clamp(nbs::estimated_coverage(p4.mesh(), nbs::find_holes(p4.mesh(), params)), 0.0, 1.0));
+
+  // Where ĉ_m puts the missing surface (CoverageResult::unseen, handed to the utility): brute force over the fan
+  // samples with the per-loop seam rule; the areas sum to A_empty of Eq. 4.35.
+  const nbs::CoverageResult res = nbs::SelectableCoverage{}.estimate(in);
+  std::vector<nbs::UnseenSample> expected;
+  for (const nbs::Hole& h : loops4) {
+    std::size_t n = 0, free_n = 0;
+    nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
+      ++n;
+      free_n += !open4(x) && free4(x) ? 1 : 0;
+    });
+    const bool seam = static_cast<int>(h.vertices.size()) > params.hole_max_edges &&
+                      static_cast<double>(free_n) >= def.min_free_share * static_cast<double>(n);
+    nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
+      if (!open4(x) && !(seam && free4(x))) expected.push_back({x, h.area_m2 / static_cast<double>(n)});
+    });
+  }
+  REQUIRE(res.unseen.size() == expected.size());
+  REQUIRE_FALSE(expected.empty());
+  double a_empty = 0.0;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    CHECK(res.unseen[i].position == expected[i].position);
+    CHECK(res.unseen[i].area_m2 == Approx(expected[i].area_m2));
+    a_empty += res.unseen[i].area_m2;
+  }
+  const double filled = nbs::filled_area(p4.mesh());
+  CHECK(filled / (filled + a_empty) == Approx(c_open).epsilon(1e-12));
+  const nbs::UtilityContext ctx = p4.utility_context();
+  REQUIRE(ctx.unseen_surface.size() == res.unseen.size());
+  CHECK(ctx.unseen_surface.front().position == res.unseen.front().position);
+  // The thesis form's holes are missing surface as a whole: 3·|E_H| samples of A_hole / (3·|E_H|) each.
+  const auto holes = nbs::find_holes(p4.mesh(), params);
+  std::size_t hole_samples = 0;
+  for (const nbs::Hole& h : holes) hole_samples += 3 * h.vertices.size();
+  CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::thesis}}.estimate(in).unseen.size() == hole_samples);
 }
 
 TEST_CASE("loop: termination criterion and BS -> HR switch inside the loop", "[planner][loop]") {

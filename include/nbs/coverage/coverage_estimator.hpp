@@ -41,10 +41,13 @@ struct CoverageInput {
   const Aabb& unknown_area;
 };
 
-/// ĉ_m ∈ [0, 1] and the number of holes with h_min ≤ |E_H| ≤ h_max among the loops it looked at.
+/// ĉ_m ∈ [0, 1], the number of holes with h_min ≤ |E_H| ≤ h_max among the loops it looked at, and where the
+/// estimate puts the missing surface: the Eq. 4.37 fan samples A_empty is made of (Σ area_m2 = A_empty; empty when
+/// the estimator does not say). The planner hands them to the utility (UtilityContext::unseen_surface).
 struct CoverageResult {
   double coverage = 0.0;
   std::size_t holes = 0;
+  std::vector<UnseenSample> unseen{};
 };
 
 /// A ĉ_m policy: `c.estimate(CoverageInput<Mesh, Space>)` → CoverageResult (coverage clamped to [0, 1]); const,
@@ -62,7 +65,9 @@ struct ThesisCoverage {
   template <EdgeMesh Mesh, VoxelSpace Space>
   [[nodiscard]] CoverageResult estimate(const CoverageInput<Mesh, Space>& in) const {
     const std::vector<Hole> holes = find_holes(in.mesh, in.params);
-    return {std::clamp(estimated_coverage(in.mesh, holes), 0.0, 1.0), holes.size()};
+    CoverageResult r{std::clamp(estimated_coverage(in.mesh, holes), 0.0, 1.0), holes.size()};
+    for (const Hole& h : holes) (void)fan_seen_share(in.mesh, h, [](const Vec3&) { return false; }, &r.unseen);
+    return r;
   }
 };
 
@@ -105,12 +110,13 @@ struct UnseenLoopCoverage {
         loops, [&](const Hole& h) { return static_cast<int>(h.vertices.size()) <= in.params.hole_max_edges; }));
     const auto seen_x = seen(in.space, in.params, in.unknown_area);
     if (!setting.free_space) {
-      r.coverage = std::clamp(estimated_coverage_unseen(in.mesh, loops, seen_x), 0.0, 1.0);
+      r.coverage = std::clamp(estimated_coverage_unseen(in.mesh, loops, seen_x, &r.unseen), 0.0, 1.0);
       return r;
     }
     const auto free_x = [&](const Vec3& x) { return in.space.probability(x) < setting.free_below; };
     r.coverage = std::clamp(estimated_coverage_unseen_free(in.mesh, loops, seen_x, free_x,
-                                                           FreeSeamRule{in.params.hole_max_edges, setting.min_free_share}),
+                                                           FreeSeamRule{in.params.hole_max_edges, setting.min_free_share},
+                                                           &r.unseen),
                             0.0, 1.0);
     return r;
   }

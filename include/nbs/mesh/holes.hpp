@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "nbs/core/parameters.hpp"
@@ -122,34 +123,54 @@ template <EdgeMesh M>
 
 /// Calls f(x) for the 3·|E_H| samples x (world, m) of hole h's Eq. 4.37 fan: per fan triangle (c_h, v_{i−1}, v_i)
 /// the points 1/4, 1/2 and 3/4 of the way from c_h to the midpoint of v_{i−1}v_i.
+/// With f(x, d) also passes d = |x − midpoint| (m), the sample's distance from the loop's edge.
 template <EdgeMesh M, class F>
 void for_each_fan_sample(const M& mesh, const Hole& h, F&& f) {
   const std::size_t k = h.vertices.size();
   for (std::size_t i = 0; i < k; ++i) {
     const Vec3 mid = 0.5 * (mesh.position(h.vertices[(i + k - 1) % k]) + mesh.position(h.vertices[i]));
-    for (const double t : {0.25, 0.5, 0.75}) f(Vec3(h.center + t * (mid - h.center)));
+    for (const double t : {0.25, 0.5, 0.75}) {
+      const Vec3 x = h.center + t * (mid - h.center);
+      if constexpr (std::is_invocable_v<F&, const Vec3&, double>) f(x, (1.0 - t) * (mid - h.center).norm());
+      else f(x);
+    }
   }
 }
 
+/// A fan sample of a closed border loop that ĉ_m counts as missing surface (an Eq. 4.37 fan sample neither seen nor
+/// in a seam's free space): where the estimate believes unseen surface lies.
+struct UnseenSample {
+  Vec3 position = Vec3::Zero();  ///< world, metres
+  double area_m2 = 0.0;          ///< the share of A_hole it stands for: A_hole / (3·|E_H|), m²
+  double edge_distance_m = 0.0;  ///< distance from the loop's edge (the midpoint its fan triangle ends at), m
+};
+
 /// Share of hole h's Eq. 4.37 fan samples (for_each_fan_sample) that `seen(x)` (x: world point, m) calls measured
-/// surface. 1 for a loop without vertices.
+/// surface. 1 for a loop without vertices. `unseen` (optional) receives the samples not seen.
 template <EdgeMesh M, class Seen>
-[[nodiscard]] double fan_seen_share(const M& mesh, const Hole& h, Seen&& seen) {
+[[nodiscard]] double fan_seen_share(const M& mesh, const Hole& h, Seen&& seen,
+                                    std::vector<UnseenSample>* unseen = nullptr) {
   if (h.vertices.empty()) return 1.0;
+  const double n = static_cast<double>(3 * h.vertices.size());
   std::size_t hits = 0;
-  for_each_fan_sample(mesh, h, [&](const Vec3& x) { hits += seen(x) ? 1 : 0; });
-  return static_cast<double>(hits) / static_cast<double>(3 * h.vertices.size());
+  for_each_fan_sample(mesh, h, [&](const Vec3& x, double d) {
+    if (seen(x)) ++hits;
+    else if (unseen) unseen->push_back({x, h.area_m2 / n, d});
+  });
+  return static_cast<double>(hits) / n;
 }
 
 /// ĉ_m = A_filled / (A_filled + A_empty) (Eq. 4.35) with A_empty = Σ A_hole · (1 − fan_seen_share) over `loops`,
 /// meant to be every closed border loop (find_all_loops). Our reading for noisy streams: a loop
 /// whose fan lies in voxels already measured as surface is a gap of the triangulation, not missing surface, and the
 /// not yet seen surface of a partial model lies in loops longer than any h_max. `seen(x)`: x lies in a voxel
-/// measured as surface (e.g. p > Parameters::occupied_threshold). 0 for a mesh without triangles.
+/// measured as surface (e.g. p > Parameters::occupied_threshold). 0 for a mesh without triangles. `unseen`
+/// (optional) receives the fan samples A_empty is made of (Σ area_m2 = A_empty).
 template <EdgeMesh M, class Seen>
-[[nodiscard]] double estimated_coverage_unseen(const M& mesh, const std::vector<Hole>& loops, Seen&& seen) {
-  return detail::coverage_ratio(mesh, loops,
-                                [&](const Hole& h) { return h.area_m2 * (1.0 - fan_seen_share(mesh, h, seen)); });
+[[nodiscard]] double estimated_coverage_unseen(const M& mesh, const std::vector<Hole>& loops, Seen&& seen,
+                                               std::vector<UnseenSample>* unseen = nullptr) {
+  return detail::coverage_ratio(
+      mesh, loops, [&](const Hole& h) { return h.area_m2 * (1.0 - fan_seen_share(mesh, h, seen, unseen)); });
 }
 
 /// Where a long loop's fan lies in empty space (issue 18): what counts as a seam rather than a hole.
@@ -162,27 +183,52 @@ struct FreeSeamRule {
 /// rule.min_free_share of its samples are free and not seen (a seam whose fan crosses measured empty space: no
 /// surface can lie there), else 1 − seen / n as in estimated_coverage_unseen. `seen(x)`, `free(x)`: world point x
 /// (m) lies in measured surface (or is walled in by it) / in measured free space. 0 for a loop without vertices.
+/// `unseen` (optional) receives the samples the share counts.
 template <EdgeMesh M, class Seen, class Free>
-[[nodiscard]] double fan_unseen_share(const M& mesh, const Hole& h, Seen&& seen, Free&& free, const FreeSeamRule& rule) {
+[[nodiscard]] double fan_unseen_share(const M& mesh, const Hole& h, Seen&& seen, Free&& free, const FreeSeamRule& rule,
+                                      std::vector<UnseenSample>* unseen = nullptr) {
   if (h.vertices.empty()) return 0.0;
-  std::size_t n = 0, hits = 0, empty = 0;
-  for_each_fan_sample(mesh, h, [&](const Vec3& x) {
-    ++n;
-    if (seen(x)) ++hits;
-    else if (free(x)) ++empty;
+  enum class State : unsigned char { seen, free, unknown };
+  struct Sample {
+    Vec3 x;
+    double d;
+    State st;
+  };
+  std::vector<Sample> samples;
+  samples.reserve(3 * h.vertices.size());
+  std::size_t hits = 0, empty = 0;
+  for_each_fan_sample(mesh, h, [&](const Vec3& x, double d) {
+    State st = State::unknown;
+    if (seen(x)) {
+      st = State::seen;
+      ++hits;
+    } else if (free(x)) {
+      st = State::free;
+      ++empty;
+    }
+    samples.push_back({x, d, st});
   });
+  const std::size_t n = samples.size();
   const bool seam = static_cast<long long>(h.vertices.size()) > rule.min_edges &&
                     static_cast<double>(empty) >= rule.min_free_share * static_cast<double>(n);
+  if (unseen) {
+    for (const Sample& q : samples)
+      if (q.st == State::unknown || (q.st == State::free && !seam))
+        unseen->push_back({q.x, h.area_m2 / static_cast<double>(n), q.d});
+  }
   return static_cast<double>(n - hits - (seam ? empty : 0)) / static_cast<double>(n);
 }
 
 /// estimated_coverage_unseen with the free-seam rule: A_empty = Σ A_hole · fan_unseen_share(h, seen, free, rule)
-/// over `loops` (every closed border loop). 0 for a mesh without triangles.
+/// over `loops` (every closed border loop). 0 for a mesh without triangles. `unseen` (optional) receives the fan
+/// samples A_empty is made of (Σ area_m2 = A_empty).
 template <EdgeMesh M, class Seen, class Free>
 [[nodiscard]] double estimated_coverage_unseen_free(const M& mesh, const std::vector<Hole>& loops, Seen&& seen,
-                                                    Free&& free, const FreeSeamRule& rule) {
-  return detail::coverage_ratio(
-      mesh, loops, [&](const Hole& h) { return h.area_m2 * fan_unseen_share(mesh, h, seen, free, rule); });
+                                                    Free&& free, const FreeSeamRule& rule,
+                                                    std::vector<UnseenSample>* unseen = nullptr) {
+  return detail::coverage_ratio(mesh, loops, [&](const Hole& h) {
+    return h.area_m2 * fan_unseen_share(mesh, h, seen, free, rule, unseen);
+  });
 }
 
 }  // namespace nbs

@@ -193,9 +193,10 @@ public:
       last_sensor_ = scan.profile_poses.front();
       scan_starts_.push_back(last_sensor_);
       last_path_length_ = (scan.profile_poses.back().translation() - scan.profile_poses.front().translation()).norm();
-      const CoverageResult cov = coverage.estimate(CoverageInput<Mesh, Space>{*mesh_, *space_, params_, box_});
+      CoverageResult cov = coverage.estimate(CoverageInput<Mesh, Space>{*mesh_, *space_, params_, box_});
       r.holes = cov.holes;
       coverage_ = cov.coverage;
+      unseen_ = std::move(cov.unseen);
       density_ = std::clamp(nbs::mean_relative_density(*mesh_), 0.0, 1.0);
       r.t_coverage_s = lap();
     }
@@ -351,7 +352,8 @@ public:
   /// score other paths exactly as the planner would.
   [[nodiscard]] UtilityContext utility_context() const {
     return {scans_, detail::splitmix64(setting_.seed ^ detail::splitmix64(std::uint64_t(scans_))), &params_,
-            last_sensor_.translation() + last_path_length_ * last_sensor_.linear().col(1)};
+            last_sensor_.translation() + last_path_length_ * last_sensor_.linear().col(1),
+            std::span<const UnseenSample>(unseen_)};
   }
   [[nodiscard]] EvaluationSetting evaluation_setting() const {
     EvaluationSetting eval{setting_.threads, setting_.sampling, setting_.refine};
@@ -579,6 +581,7 @@ private:
   double last_path_length_ = 0.0;
   int scans_ = 0;
   double coverage_ = 0.0;
+  std::vector<UnseenSample> unseen_;  // where ĉ_m puts the missing surface after the last scan (CoverageResult::unseen)
   double density_ = 0.0;
   IterationStats last_stats_{};
 };

@@ -52,16 +52,16 @@ struct Method {
 /// The SEE peer planner.
 inline constexpr Method kSeeMethod{Selection::ig_quality, SearchSpace::surface_edge};
 
-/// The 12 thesis methods (R, I, Q, C × S, B, H), the 7 peer metrics and surface gain SG (ours) with BS+HR, then the
-/// peer planner SEE.
-inline constexpr std::array<Method, 21> kAllMethods = [] {
-  std::array<Method, 21> m{};
+/// The 12 thesis methods (R, I, Q, C × S, B, H), the 7 peer metrics and surface gain SG, SGU (ours) with BS+HR, then
+/// the peer planner SEE.
+inline constexpr std::array<Method, 22> kAllMethods = [] {
+  std::array<Method, 22> m{};
   std::size_t i = 0;
   for (Selection s : {Selection::random, Selection::information_gain, Selection::quality, Selection::ig_quality})
     for (SearchSpace g : {SearchSpace::sphere, SearchSpace::boundary, SearchSpace::boundary_hole}) m[i++] = {s, g};
   for (Selection s : {Selection::occlusion_aware, Selection::unobserved_voxel, Selection::rear_side_voxel,
                       Selection::rear_side_entropy, Selection::proximity_count, Selection::average_entropy,
-                      Selection::vasquez_gomez, Selection::surface_gain})
+                      Selection::vasquez_gomez, Selection::surface_gain, Selection::surface_gain_unseen})
     m[i++] = {s, SearchSpace::boundary_hole};
   m[i++] = kSeeMethod;
   return m;
@@ -120,6 +120,8 @@ struct RuntimeModels {
   /// thesis's ICP (Sec. 3.2.3) with `icp`.
   RegistrationMethod registration = RegistrationMethod::none;
   IcpSetting icp{};
+  /// The options of the selection criteria that are not thesis parameters (SGU's β, SG's l_0, ...).
+  SelectionOptions selection{};
   /// The StreamingMesh settings of this choice over `box` (the pass-through box): StreamingMeshSettings::from, made
   /// noise-robust (NoiseRobustStreamingMesh::robust) if noise_robust_mesh. Throws InvalidArgument for bad params.
   [[nodiscard]] StreamingMeshSettings mesh_settings(const Parameters& params, const Aabb& box) const {
@@ -215,7 +217,10 @@ private:
     Variant v(std::in_place_type<RuntimePlannerOf<S>>, params, sensor, box, setting,
               models.mesh_settings(params, box));
     auto& p = std::get<RuntimePlannerOf<S>>(v);
-    if constexpr (std::same_as<RuntimeUtility<S>, SelectionUtility>) p.utility.setting.selection = sel;
+    if constexpr (std::same_as<RuntimeUtility<S>, SelectionUtility>) {
+      p.utility.setting.selection = sel;
+      p.utility.setting.options = models.selection;
+    }
     p.coverage.setting.form = models.coverage_estimate;
     p.registration = SelectableRegistration{models.registration, models.icp};
     return v;

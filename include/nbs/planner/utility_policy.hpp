@@ -23,6 +23,10 @@ struct UtilityContext {
   /// Where the sensor rests now (world, metres): the end of the last scan path (NbsPlanner); the origin before the
   /// first scan. NearestViewUtility measures from here.
   Vec3 sensor_position = Vec3::Zero();
+  /// Where ĉ_m puts the missing surface after the last scan (CoverageResult::unseen: world points, m, with the area
+  /// each stands for, m²); empty before the first scan or when the coverage estimator does not say. Borrowed: valid
+  /// until the planner's next integrate(). SGU reads it.
+  std::span<const UnseenSample> unseen_surface{};
 };
 
 /// U scores candidates: `u.evaluate(paths, sensor, space, ctx, eval)` returns one value per path and the best
@@ -56,6 +60,7 @@ struct SelectionUtility {
     s.cutoff_rad = p.incidence_cutoff_rad;
     s.seed = ctx.seed;
     s.options = setting.options;
+    s.unseen = ctx.unseen_surface;
     return evaluate_selection(paths, sensor, space, s, eval);
   }
 };

@@ -19,11 +19,13 @@
 /// | AE | average-entropy VI | AverageEntropyVI |
 /// | VG | Vasquez-Gomez area factor | VasquezGomezVI |
 /// | SG | surface gain (ours): Eq. 4.30 with rear-side entropy for e_v, per metre of scan path | SurfaceGain |
+/// | SGU | SG plus β × the unseen surface ĉ_m counts as missing that the beams reach (ours) | SurfaceGain, UnseenSurfaceVI |
 
 #include <array>
 #include <cctype>
 #include <cstdint>
 #include <numbers>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,16 +51,18 @@ enum class Selection {
   average_entropy,
   vasquez_gomez,
   surface_gain,
+  surface_gain_unseen,
 };
 
 /// Every Selection, in declaration order.
-inline constexpr std::array<Selection, 12> kAllSelections{
+inline constexpr std::array<Selection, 13> kAllSelections{
     Selection::random,          Selection::information_gain, Selection::quality,
     Selection::ig_quality,      Selection::occlusion_aware,  Selection::unobserved_voxel,
     Selection::rear_side_voxel, Selection::rear_side_entropy, Selection::proximity_count,
-    Selection::average_entropy, Selection::vasquez_gomez, Selection::surface_gain};
+    Selection::average_entropy, Selection::vasquez_gomez,     Selection::surface_gain,
+    Selection::surface_gain_unseen};
 
-/// The string code of `s` (R, I, Q, C, OA, UV, RSV, RSE, PC, AE, VG, SG).
+/// The string code of `s` (R, I, Q, C, OA, UV, RSV, RSE, PC, AE, VG, SG, SGU).
 [[nodiscard]] constexpr std::string_view format_selection(Selection s) {
   switch (s) {
     case Selection::random: return "R";
@@ -73,6 +77,7 @@ inline constexpr std::array<Selection, 12> kAllSelections{
     case Selection::average_entropy: return "AE";
     case Selection::vasquez_gomez: return "VG";
     case Selection::surface_gain: return "SG";
+    case Selection::surface_gain_unseen: return "SGU";
   }
   return "?";
 }
@@ -100,7 +105,13 @@ struct SelectionOptions {
   bool peers_count_once = false;       ///< apply Sec. 4.5.3's visited marking to the peer VIs
   bool per_metre = true;               ///< SG: divide by the scan path length (+ l_0)
   double length_offset_m = 0.05;       ///< SG: l_0 of the per-metre form (metres, > 0)
-  bool surface_gain_modeling = false;  ///< SG: add ω(n_s)·m_s (SurfaceGain::Setting::modeling)
+  bool surface_gain_modeling = false;  ///< SG, SGU: add ω(n_s)·m_s (SurfaceGain::Setting::modeling)
+  double unseen_weight = 16.0;         ///< SGU: β, bits of g_rs per voxel face of unseen surface (≥ 0)
+  /// SGU: fan samples closer than this to their loop's edge are left out of g_u (metres, ≥ 0; one voxel of the
+  /// default space): there the loops are mostly gaps of the triangulation (spot, scans 8–12: 1–2 % of such samples
+  /// lie within 6 mm of missing surface, against 32–72 % of the others).
+  double unseen_min_edge_distance_m = 0.005;
+  bool operator==(const SelectionOptions&) const = default;
 };
 
 /// Parameters of every criterion; each uses the fields it needs.
@@ -112,6 +123,8 @@ struct SelectionSetting {
   double cutoff_rad = 70.0 * std::numbers::pi / 180.0;   ///< incidence cut-off of Eq. (4.33)
   std::uint64_t seed = 0;                                ///< Random
   SelectionOptions options{};                            ///< the options that are not thesis parameters
+  /// SGU: where ĉ_m puts the missing surface (UtilityContext::unseen_surface; world, m), borrowed for the call.
+  std::span<const UnseenSample> unseen{};
 };
 
 /// Evaluates `candidates` with the criterion `sel.selection` (see the table above). N_v is computed from the space
@@ -154,7 +167,8 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
       r = evaluate_candidates(candidates, sensor, space, VasquezGomezVI(field), setting);
       break;
     }
-    case Selection::surface_gain: {
+    case Selection::surface_gain:
+    case Selection::surface_gain_unseen: {
       SurfaceGain::Setting g;
       g.non_free_voxels = non_free_voxel_count(space);
       g.omega = modeling_weight(sel.n_scans, sel.n_q);
@@ -162,12 +176,17 @@ template <VoxelSpace Space, CandidateRaySensor Sensor>
       g.cutoff_rad = sel.cutoff_rad;
       g.length_offset_m = sel.options.length_offset_m;
       g.modeling = sel.options.surface_gain_modeling;
+      const bool unseen = sel.selection == Selection::surface_gain_unseen;
+      g.unseen_weight = unseen ? sel.options.unseen_weight : 0.0;
+      const UnseenSurfaceMap map = unseen ? UnseenSurfaceMap::build(sel.unseen, space.grid(),
+                                                                    sel.options.unseen_min_edge_distance_m)
+                                          : UnseenSurfaceMap();
       std::vector<double> lengths;
       if (sel.options.per_metre) {
         lengths.reserve(candidates.size());
         for (const LinearScanPath& c : candidates) lengths.push_back(c.length());
       }
-      r = evaluate_candidates(candidates, sensor, space, SurfaceGain(g, lengths), setting);
+      r = evaluate_candidates(candidates, sensor, space, SurfaceGain(g, lengths, &map), setting);
       break;
     }
   }

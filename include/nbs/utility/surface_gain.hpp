@@ -6,8 +6,11 @@
 ///
 ///   f_SG(i) = [g_rs(i)/N_v] / (l_i + l_0)                             (the default)
 ///   f_SG(i) = [(1 − ω)·g_rs(i)/N_v + ω·m_s(i)] / (l_i + l_0)          (`modeling`: Eq. 4.30 with e_v replaced)
+///   f_SGU(i) = [(g_rs(i) + β·g_u(i))/N_v] / (l_i + l_0)               (`unseen_weight` β > 0 and an unseen map)
 ///
 /// and without the division when no lengths are given.
+/// - g_u: the unseen-surface gain (nbs/utility/unseen_surface.hpp), the area of ĉ_m's missing surface the beams
+///   reach, in voxel faces; β converts it to bits of g_rs.
 /// - g_rs: Σ over rays of P_v·H(x) of the unobserved voxels directly in front of an occupied one (bits), i.e. the
 ///   unknown space a view would resolve next to surface already measured. e_v (Eq. 4.32) also counts the unknown
 ///   space far from any surface that long beams cross; it made IG/Quality prefer such views (nbs_diagnose).
@@ -25,6 +28,7 @@
 #include "nbs/core/error.hpp"
 #include "nbs/utility/peer_terms.hpp"
 #include "nbs/utility/thesis_terms.hpp"
+#include "nbs/utility/unseen_surface.hpp"
 
 namespace nbs {
 
@@ -37,19 +41,24 @@ public:
     double cutoff_rad = 70.0 * std::numbers::pi / 180.0;   ///< incidence cut-off of Eq. (4.33)
     double length_offset_m = 0.05;                         ///< l_0 > 0 of the per-metre form
     bool modeling = false;                                 ///< add ω·m_s (Eq. 4.30's 3D modeling part), see above
+    double unseen_weight = 0.0;                            ///< β ≥ 0 of f_SGU (0: g_u is not evaluated)
     void validate() const {
       detail::require_positive("SurfaceGain.non_free_voxels", non_free_voxels);
       detail::require_in_range("SurfaceGain.omega", omega, 0.0, 1.0);
       detail::require_positive("SurfaceGain.length_offset_m", length_offset_m);
+      detail::require(std::isfinite(unseen_weight) && unseen_weight >= 0.0,
+                      "SurfaceGain.unseen_weight must be finite and >= 0, got ", unseen_weight);
     }
   };
   SurfaceGain() = default;
   /// `lengths_m[i]` = scan path length of candidate i (metres, finite, ≥ 0), borrowed for the term's lifetime;
-  /// empty = no per-metre division.
-  explicit SurfaceGain(const Setting& s, std::span<const double> lengths_m = {})
+  /// empty = no per-metre division. `unseen` (borrowed; null = none) feeds g_u when unseen_weight > 0.
+  explicit SurfaceGain(const Setting& s, std::span<const double> lengths_m = {},
+                       const UnseenSurfaceMap* unseen = nullptr)
       : setting_(s),
         lengths_m_(lengths_m),
-        terms_(RearSideEntropyVI(), SurfaceQuality({s.non_free_voxels, s.lambda, s.cutoff_rad, true})) {
+        terms_(RearSideEntropyVI(), SurfaceQuality({s.non_free_voxels, s.lambda, s.cutoff_rad, true}),
+               UnseenSurfaceVI(s.unseen_weight > 0.0 && unseen != nullptr ? unseen : nullptr)) {
     s.validate();
     for (double l : lengths_m)
       detail::require(std::isfinite(l) && l >= 0.0, "SurfaceGain: scan path length must be finite and >= 0, got ", l);
@@ -65,19 +74,23 @@ public:
   void visit(const VoxelVisit& v) { terms_.visit(v); }
   void end_ray(const RayEnd& e) { terms_.end_ray(e); }
   [[nodiscard]] double value() const {
-    const double f = weighted_utility(rear_side_entropy(), modeling(), setting_.modeling ? setting_.omega : 0.0);
+    const double g = setting_.unseen_weight > 0.0 ? rear_side_entropy() + setting_.unseen_weight * unseen_gain()
+                                                  : rear_side_entropy();
+    const double f = weighted_utility(g, modeling(), setting_.modeling ? setting_.omega : 0.0);
     return lengths_m_.empty() ? f : f / (lengths_m_[candidate_] + setting_.length_offset_m);
   }
   /// g_rs / N_v (bits per non-free voxel).
   [[nodiscard]] double rear_side_entropy() const { return terms_.get<0>().value() / setting_.non_free_voxels; }
   [[nodiscard]] double modeling() const { return terms_.get<1>().value(); }  ///< m_s, Eq. (4.34)
+  /// g_u / N_v (voxel faces of unseen surface per non-free voxel); 0 without an unseen map.
+  [[nodiscard]] double unseen_gain() const { return terms_.get<2>().value() / setting_.non_free_voxels; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
 
 private:
   Setting setting_;
   std::span<const double> lengths_m_;
   std::size_t candidate_ = 0;
-  TermSet<RearSideEntropyVI, SurfaceQuality> terms_;
+  TermSet<RearSideEntropyVI, SurfaceQuality, UnseenSurfaceVI> terms_;
 };
 
 static_assert(UtilityTerm<SurfaceGain>);
