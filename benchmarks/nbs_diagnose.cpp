@@ -20,6 +20,8 @@
 // writes PREFIX_<step>.csv (utility, true gain, rays, voxels, path ends, view direction, length and source of every
 // candidate; NBS_DIAG_ALT=CODE,CODE adds the utilities of those selections for the same candidates as columns, GU:
 // SGU's unseen-surface gain g_u alone, GU<mm>: from the samples at least mm from their loop's edge);
+// NBS_DIAG_UNSEEN=PREFIX writes PREFIX_<scan>.csv: where ĉ_m puts the missing surface (UtilityContext::unseen_surface,
+// SGU's input; benchmarks/unseen_locator.py compares it with NBS_DIAG_UNCOVERED's dump);
 // NBS_DIAG_COVERAGE=1 skips the true gains and prints per scan the terms of ĉ_m (Eqs. 4.35–4.37) next to the truth
 // (see print_coverage_terms); with it, NBS_DIAG_LOOPS=K also prints the K loops of largest unseen area and where the
 // triangle area lies by face tilt (see print_loops).
@@ -155,8 +157,12 @@ struct DiagnosticUtility {
             const std::size_t q = std::min(list.find(',', p), list.size());
             if (q > p && list.compare(p, 2, "GU") == 0) {  // GU[mm]: g_u alone (voxel faces), samples at least mm
               const std::string mm = list.substr(p + 2, q - p - 2);   // from their loop's edge (all if no number)
-              const nbs::UnseenSurfaceMap map = nbs::UnseenSurfaceMap::build(
-                  ctx.unseen_surface, space.grid(), mm.empty() ? 0.0 : 1e-3 * std::atof(mm.c_str()));
+              char* end = nullptr;
+              const double d_mm = mm.empty() ? 0.0 : std::strtod(mm.c_str(), &end);
+              if (!mm.empty() && (end != mm.c_str() + mm.size() || !(d_mm >= 0.0)))
+                throw nbs::InvalidArgument("NBS_DIAG_ALT: bad edge distance in '" + list.substr(p, q - p) +
+                                           "' (GU or GU<mm>, mm >= 0)");
+              const nbs::UnseenSurfaceMap map = nbs::UnseenSurfaceMap::build(ctx.unseen_surface, space.grid(), 1e-3 * d_mm);
               alt_names.push_back(list.substr(p, q - p));
               alt.push_back(nbs::evaluate_candidates(paths, sensor, space, nbs::UnseenSurfaceVI(&map), eval).values);
             } else if (q > p) {
@@ -509,7 +515,7 @@ int main(int argc, char** argv) {
              throw tools::UsageError("--selection", e.what());
            }
          },
-         "selection criterion alone (any search space): R I Q C OA UV RSV RSE PC AE VG SG")
+         "selection criterion alone (any search space): R I Q C OA UV RSV RSE PC AE VG SG SGU")
       ->type_name("CODE");
   app.add_flag("--oracle", opt.oracle, "pick the candidate of largest true gain");
   app.add_option_function<std::string>(

@@ -138,6 +138,17 @@ void for_each_parameter(Parameters& p, F&& f) {
   return j;
 }
 
+/// An eval.json configuration written before the set-up keys of SGU existed ("unseen_weight",
+/// "unseen_min_edge_distance_m") ran with their defaults (no method used them): adds the missing ones, so that such
+/// an output can be resumed and merged. Leaves every other key as it is.
+[[nodiscard]] inline nlohmann::json with_selection_defaults(nlohmann::json config) {
+  if (!config.is_object() || !config.contains("setup") || !config["setup"].is_object()) return config;
+  const nlohmann::json defaults = setup_json(Setup{});
+  for (const char* key : {"unseen_weight", "unseen_min_edge_distance_m"})
+    if (!config["setup"].contains(key)) config["setup"][key] = defaults.at(key);
+  return config;
+}
+
 /// Parses a set-up JSON text. `origin` names the source in messages. Throws UsageError.
 [[nodiscard]] inline Setup parse_setup(const std::string& text, const std::string& origin) {
   nlohmann::json j;
@@ -279,7 +290,8 @@ inline constexpr std::string_view kUsage =
     "the output of the unsharded run. 'c-obs' recomputes the observability ceiling c_obs of finished outputs with\n"
     "the scanner's rule (any incidence) and rewrites their records and summaries (run from where they were made).\n"
     "method codes: selection R(andom) I(G) Q(uality) C(IG+Quality) x search S(phere) B(oundary Search)\n"
-    "  H(BS + Hole Rescan); peer metrics with BS+HR: OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H; surface gain (ours) SG_H;\n"
+    "  H(BS + Hole Rescan); peer metrics with BS+HR: OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H; surface gains (ours) SG_H\n"
+    "  SGU_H;\n"
     "  the peer planner SEE (Surface Edge Explorer: density frontier, nearest view). Valid codes:\n"
     "  ";
 

@@ -187,7 +187,7 @@ inline int run_command(const std::vector<std::string>& args, std::ostream& out, 
     } catch (const Json::exception& e) {
       throw UsageError("'" + (dir / "eval.json").string() + "' is not valid JSON: " + e.what());
     }
-    Json old_cfg = old;
+    Json old_cfg = with_selection_defaults(old);
     old_cfg.erase("c_obs");
     old_cfg.erase(kCObsIncidenceKey);
     if (old_cfg != config)
@@ -297,7 +297,7 @@ inline int merge_command(const std::vector<std::string>& args, std::ostream& out
     if (!fs::exists(p / "eval.json")) throw UsageError("merge: '" + d + "' has no eval.json (not an nbs_eval output)");
     Json c;
     try {
-      c = Json::parse(read_text(p / "eval.json"));
+      c = with_selection_defaults(Json::parse(read_text(p / "eval.json")));
     } catch (const Json::exception& e) {
       throw UsageError("merge: '" + (p / "eval.json").string() + "' is not valid JSON: " + e.what());
     }

@@ -53,7 +53,7 @@ struct RunContext {
   int n_abort = 30;
   double c_obs = 0.0;
   PlannerSetting setting{};  ///< keep_exploring of the config; threads and seed are set per run
-  RuntimeModels models{};    ///< mesh and ĉ_m form of the config (and the registration method)
+  RuntimeModels models{};    ///< mesh, ĉ_m form and selection options of the config (and the registration method)
   /// --pose-error / --registration: the error of each run (seed derived from the run's) and whether the records
   /// carry the pose fields.
   tools::PoseErrorOptions pose{};

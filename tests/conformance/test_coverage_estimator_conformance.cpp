@@ -118,6 +118,16 @@ TEST_CASE("ĉ_m forms on the open box: Eq. 4.35 is 5/6; the unseen forms drop th
     CHECK(on_open_box(open_form, empty).coverage == Approx(five_sixths).epsilon(1e-12));
     CHECK(on_open_box(unknown_form, empty).coverage == Approx(five_sixths).epsilon(1e-12));
     CHECK(on_open_box(nbs::SelectableCoverage{}, empty).coverage == on_open_box(unknown_form, empty).coverage);
+    // Where the missing surface is: the top face's fan, 3 samples per loop edge, their areas summing to its area.
+    for (const nbs::CoverageResult& r : {t, on_open_box(loops_form, empty), on_open_box(unknown_form, empty)}) {
+      double area = 0.0;
+      for (const nbs::UnseenSample& u : r.unseen) {
+        area += u.area_m2;
+        CHECK(u.position.z() == Approx(kSide).margin(1e-12));  // on the top face
+      }
+      CHECK(area == Approx(kSide * kSide).epsilon(1e-9));
+      CHECK(r.unseen.size() % 3 == 0);
+    }
   }
   SECTION("the top face measured as surface: the unseen forms reach 1, Eq. 4.35 does not look at the space") {
     MyVoxelSpace seen(0.005, kBox);
@@ -126,6 +136,8 @@ TEST_CASE("ĉ_m forms on the open box: Eq. 4.35 is 5/6; the unseen forms drop th
     CHECK(on_open_box(loops_form, seen).coverage == Approx(1.0).epsilon(1e-12));
     CHECK(on_open_box(open_form, seen).coverage == Approx(1.0).epsilon(1e-12));
     CHECK(on_open_box(unknown_form, seen).coverage == Approx(1.0).epsilon(1e-12));
+    CHECK(on_open_box(unknown_form, seen).unseen.empty());
+    CHECK(on_open_box(thesis, seen).unseen.size() == on_open_box(thesis, MyVoxelSpace(0.005, kBox)).unseen.size());
   }
   SECTION("beams through the top face into the box: the free-seam rule calls a long loop's free fan seen") {
     // The fan of the top loop lies in voxels a beam passed through: no surface can be there (the mug's cavity).

@@ -267,6 +267,15 @@ TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK(nbs::eval::parse_setup(nbs::eval::setup_json(u).dump(), "cfg").models == u.models);
   for (const char* bad : {R"({"unseen_weight": -1})", R"({"unseen_weight": "a"})", R"({"unseen_min_edge_distance_m": -0.1})"})
     CHECK_THROWS_WITH(nbs::eval::parse_setup(bad, "cfg"), nbs_test::Contains("must be a finite number >= 0"));
+  // An eval.json written before these keys existed compares equal to today's with the defaults (resume, merge).
+  nbs::eval::Json older = {{"mesh", "m.obj"}, {"setup", nbs::eval::setup_json(d)}};
+  older["setup"].erase("unseen_weight");
+  older["setup"].erase("unseen_min_edge_distance_m");
+  const nbs::eval::Json today = {{"mesh", "m.obj"}, {"setup", nbs::eval::setup_json(d)}};
+  CHECK(older != today);
+  CHECK(nbs::eval::with_selection_defaults(older) == today);
+  nbs::eval::Json other = {{"mesh", "m.obj"}, {"setup", nbs::eval::setup_json(u)}};
+  CHECK(nbs::eval::with_selection_defaults(other) == other);  // present keys stay as they are
 }
 
 TEST_CASE("set-up file: fields by name, errors name the key", "[eval]") {

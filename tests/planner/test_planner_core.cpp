@@ -175,6 +175,15 @@ TEST_CASE("runtime facade: every method code parses and round-trips; unknown cod
   }
   CHECK(codes.size() == nbs::kAllMethods.size());
   CHECK(codes.size() == 22);
+  // The facade hands RuntimeModels::selection (SGU's β, d_min, ...) to its selection utility.
+  nbs::RuntimeModels models;
+  models.selection.unseen_weight = 3.5;
+  models.selection.unseen_min_edge_distance_m = 0.02;
+  const nbs::RuntimePlanner rp(nbs::parse_method("SGU_H"), {}, light_lsp(), sphere_box(), setting(1), models);
+  const auto* bh = std::get_if<nbs::RuntimePlannerOf<nbs::SearchSpace::boundary_hole>>(&rp.variant());
+  REQUIRE(bh != nullptr);
+  CHECK(bh->utility.setting.selection == nbs::Selection::surface_gain_unseen);
+  CHECK(bh->utility.setting.options == models.selection);
   for (const char* c : {"R_S", "R_B", "R_H", "I_S", "I_B", "I_H", "Q_S", "Q_B", "Q_H", "C_S", "C_B", "C_H", "OA_H",
                         "UV_H", "RSV_H", "RSE_H", "PC_H", "AE_H", "VG_H", "SG_H", "SGU_H", "SEE"})
     CHECK(codes.count(c) == 1);
@@ -311,27 +320,39 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   const nbs::CoverageResult res = nbs::SelectableCoverage{}.estimate(in);
   std::vector<nbs::UnseenSample> expected;
   for (const nbs::Hole& h : loops4) {
-    std::size_t n = 0, free_n = 0;
-    nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
-      ++n;
-      free_n += !open4(x) && free4(x) ? 1 : 0;
-    });
-    const bool seam = static_cast<int>(h.vertices.size()) > params.hole_max_edges &&
-                      static_cast<double>(free_n) >= def.min_free_share * static_cast<double>(n);
-    nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
-      if (!open4(x) && !(seam && free4(x))) expected.push_back({x, h.area_m2 / static_cast<double>(n)});
-    });
+    std::vector<std::pair<Vec3, double>> fan;  // the Eq. 4.37 fan samples and their distance from the edge midpoint
+    const std::size_t k = h.vertices.size();
+    for (std::size_t i = 0; i < k; ++i) {
+      const Vec3 mid = 0.5 * (p4.mesh().position(h.vertices[(i + k - 1) % k]) + p4.mesh().position(h.vertices[i]));
+      for (const double t : {0.25, 0.5, 0.75}) {
+        const Vec3 x = h.center + t * (mid - h.center);
+        fan.emplace_back(x, (x - mid).norm());
+      }
+    }
+    std::size_t free_n = 0;
+    for (const auto& [x, d] : fan) free_n += !open4(x) && free4(x) ? 1 : 0;
+    const bool seam = static_cast<int>(k) > params.hole_max_edges &&
+                      static_cast<double>(free_n) >= def.min_free_share * static_cast<double>(fan.size());
+    for (const auto& [x, d] : fan)
+      if (!open4(x) && !(seam && free4(x))) expected.push_back({x, h.area_m2 / static_cast<double>(fan.size()), d});
   }
   REQUIRE(res.unseen.size() == expected.size());
   REQUIRE_FALSE(expected.empty());
   double a_empty = 0.0;
   for (std::size_t i = 0; i < expected.size(); ++i) {
-    CHECK(res.unseen[i].position == expected[i].position);
+    CHECK(res.unseen[i].position.isApprox(expected[i].position, 1e-12));
     CHECK(res.unseen[i].area_m2 == Approx(expected[i].area_m2));
+    CHECK(res.unseen[i].edge_distance_m == Approx(expected[i].edge_distance_m).margin(1e-12));
     a_empty += res.unseen[i].area_m2;
   }
   const double filled = nbs::filled_area(p4.mesh());
   CHECK(filled / (filled + a_empty) == Approx(c_open).epsilon(1e-12));
+  // The unseen_open form (the one docs/eval's SG and SGU runs used): its samples also sum to its A_empty.
+  const nbs::CoverageResult open_res = nbs::SelectableCoverage{{nbs::CoverageEstimate::unseen_open}}.estimate(in);
+  double a_open = 0.0;
+  for (const nbs::UnseenSample& u : open_res.unseen) a_open += u.area_m2;
+  CHECK(open_res.unseen.size() >= res.unseen.size());  // no free-seam rule: a superset of the samples
+  CHECK(filled / (filled + a_open) == Approx(open_res.coverage).epsilon(1e-12));
   const nbs::UtilityContext ctx = p4.utility_context();
   REQUIRE(ctx.unseen_surface.size() == res.unseen.size());
   CHECK(ctx.unseen_surface.front().position == res.unseen.front().position);

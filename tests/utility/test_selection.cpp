@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "nbs/planner/utility_policy.hpp"
 #include "nbs/utility/selection.hpp"
 #include "test_terms_fixtures.hpp"
 
@@ -98,10 +99,19 @@ TEST_CASE("SGU: SG plus beta times the unseen surface the beams reach; the map b
   REQUIRE(g_u.size() == 3);
   CHECK(*std::max_element(g_u.begin(), g_u.end()) > 0.0);
   CHECK(*std::min_element(g_u.begin(), g_u.end()) < *std::max_element(g_u.begin(), g_u.end()));
-  for (const double g : g_u) {
-    CHECK(g <= 1000.0 - 3 * 8);  // the rows' 3 × 8 crossed or hit voxels never count
-    CHECK(g == std::round(g));  // whole voxels, each counted once per candidate
-  }
+  // Oracle: the distinct unobserved voxels each candidate's beams visit, collected in a set (one face each).
+  struct DistinctUnobserved {
+    std::set<std::uint64_t> keys;
+    void begin_candidate(std::size_t) { keys.clear(); }
+    void begin_ray() {}
+    void visit(const VoxelVisit& v) {
+      if (!v.observed) keys.insert(v.key.pack());
+    }
+    void end_ray(const RayEnd&) {}
+    [[nodiscard]] double value() const { return static_cast<double>(keys.size()); }
+  };
+  CHECK(g_u == evaluate_candidates(cands, lsp, space, DistinctUnobserved{}).values);
+  for (const double g : g_u) CHECK(g <= 1000.0 - 3 * 8);  // the rows' 3 × 8 crossed or hit voxels never count
   const std::vector<UnseenSample> crossed{{Vec3(2.5, 5.5, 5.5) * lv, lv * lv, 0.02}};
   REQUIRE(space.observed(VoxelKey{2, 5, 5}));
   const UnseenSurfaceMap crossed_map = UnseenSurfaceMap::build(crossed, space.grid());
@@ -131,6 +141,19 @@ TEST_CASE("SGU: SG plus beta times the unseen surface the beams reach; the map b
   CHECK(evaluate_selection(std::span<const LinearScanPath>(cands), lsp, space, sel).values == sg);
   sel.options.unseen_min_edge_distance_m = 0.02;
   CHECK(evaluate_selection(std::span<const LinearScanPath>(cands), lsp, space, sel).best == best_u);
+  // The same on 1 and 2 threads; SelectionUtility reads the samples from the planner's context.
+  sel.options.unseen_weight = 16.0;
+  const auto one = evaluate_selection(std::span<const LinearScanPath>(cands), lsp, space, sel, nbs_test::threads(1));
+  CHECK(one.values == evaluate_selection(std::span<const LinearScanPath>(cands), lsp, space, sel, nbs_test::threads(2)).values);
+  SelectionUtility su;
+  su.setting.selection = Selection::surface_gain_unseen;
+  su.setting.options = sel.options;
+  UtilityContext ctx;
+  ctx.scans = 4;
+  ctx.unseen_surface = unseen;
+  const Parameters defaults;
+  ctx.params = &defaults;
+  CHECK(su.evaluate(std::span<const LinearScanPath>(cands), lsp, space, ctx, nbs_test::threads(2)).values == one.values);
   sel.unseen = {};  // nothing reported: SG's values
   CHECK(evaluate_selection(std::span<const LinearScanPath>(cands), lsp, space, sel).values == sg);
 
@@ -147,6 +170,10 @@ TEST_CASE("SGU: SG plus beta times the unseen surface the beams reach; the map b
   CHECK(m2.at(VoxelKey{0, 0, 0}) == Approx(1.0));
   CHECK(m2.at(VoxelKey{1, 0, 0}) == 0.0);
   CHECK(UnseenSurfaceMap::build(two, grid, 0.005).at(VoxelKey{0, 0, 0}) == Approx(0.6));  // the first is too near
+  CHECK_THROWS_WITH(UnseenSurfaceMap::build(two, grid, -0.001), nbs_test::Contains("min_edge_distance_m"));
+  CHECK_THROWS_AS(UnseenSurfaceMap::build(two, grid, std::nan("")), InvalidArgument);
+  const std::vector<UnseenSample> nan_d{{Vec3::Zero(), 1e-5, std::nan("")}};
+  CHECK_THROWS_WITH(UnseenSurfaceMap::build(nan_d, grid), nbs_test::Contains("edge distance"));
   sel.options.unseen_weight = -1.0;
   CHECK_THROWS_AS(evaluate_selection(std::span<const LinearScanPath>(cands), lsp, space, sel), InvalidArgument);
 }

@@ -146,7 +146,7 @@ inline CLI::Option* add_method(CLI::App& app, Method& method) {
               throw UsageError("--method", e.what());
             }
           },
-          "planning method (default C_H): R|I|Q|C _ S|B|H (Fig. 4.19) or OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H SG_H, or the "
+          "planning method (default C_H): R|I|Q|C _ S|B|H (Fig. 4.19) or OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H SG_H SGU_H, or the "
           "peer planner SEE")
       ->type_name("CODE");
 }

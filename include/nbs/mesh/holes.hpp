@@ -6,7 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <limits>
-#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "nbs/core/parameters.hpp"
@@ -121,20 +121,22 @@ template <EdgeMesh M>
   return detail::coverage_ratio(mesh, holes, [](const Hole& h) { return h.area_m2; });
 }
 
-/// Calls f(x) for the 3·|E_H| samples x (world, m) of hole h's Eq. 4.37 fan: per fan triangle (c_h, v_{i−1}, v_i)
-/// the points 1/4, 1/2 and 3/4 of the way from c_h to the midpoint of v_{i−1}v_i.
-/// With f(x, d) also passes d = |x − midpoint| (m), the sample's distance from the loop's edge.
+/// Calls f(x, d) for the 3·|E_H| samples x (world, m) of hole h's Eq. 4.37 fan: per fan triangle (c_h, v_{i−1}, v_i)
+/// the points 1/4, 1/2 and 3/4 of the way from c_h to the midpoint m_i of v_{i−1}v_i; d = |x − m_i| (m), the
+/// sample's distance from the midpoint of its triangle's loop edge.
 template <EdgeMesh M, class F>
-void for_each_fan_sample(const M& mesh, const Hole& h, F&& f) {
+void for_each_fan_sample_at(const M& mesh, const Hole& h, F&& f) {
   const std::size_t k = h.vertices.size();
   for (std::size_t i = 0; i < k; ++i) {
     const Vec3 mid = 0.5 * (mesh.position(h.vertices[(i + k - 1) % k]) + mesh.position(h.vertices[i]));
-    for (const double t : {0.25, 0.5, 0.75}) {
-      const Vec3 x = h.center + t * (mid - h.center);
-      if constexpr (std::is_invocable_v<F&, const Vec3&, double>) f(x, (1.0 - t) * (mid - h.center).norm());
-      else f(x);
-    }
+    for (const double t : {0.25, 0.5, 0.75}) f(Vec3(h.center + t * (mid - h.center)), (1.0 - t) * (mid - h.center).norm());
   }
+}
+
+/// Calls f(x) for the fan samples of for_each_fan_sample_at.
+template <EdgeMesh M, class F>
+void for_each_fan_sample(const M& mesh, const Hole& h, F&& f) {
+  for_each_fan_sample_at(mesh, h, [&](const Vec3& x, double) { f(x); });
 }
 
 /// A fan sample of a closed border loop that ĉ_m counts as missing surface (an Eq. 4.37 fan sample neither seen nor
@@ -142,18 +144,20 @@ void for_each_fan_sample(const M& mesh, const Hole& h, F&& f) {
 struct UnseenSample {
   Vec3 position = Vec3::Zero();  ///< world, metres
   double area_m2 = 0.0;          ///< the share of A_hole it stands for: A_hole / (3·|E_H|), m²
-  double edge_distance_m = 0.0;  ///< distance from the loop's edge (the midpoint its fan triangle ends at), m
+  /// distance from the midpoint of its fan triangle's loop edge (for_each_fan_sample_at), m: small for the samples
+  /// of small loops and near the border of large ones
+  double edge_distance_m = 0.0;
 };
 
 /// Share of hole h's Eq. 4.37 fan samples (for_each_fan_sample) that `seen(x)` (x: world point, m) calls measured
-/// surface. 1 for a loop without vertices. `unseen` (optional) receives the samples not seen.
+/// surface. 1 for a loop without vertices. `unseen` (optional) gets the samples not seen appended.
 template <EdgeMesh M, class Seen>
 [[nodiscard]] double fan_seen_share(const M& mesh, const Hole& h, Seen&& seen,
                                     std::vector<UnseenSample>* unseen = nullptr) {
   if (h.vertices.empty()) return 1.0;
   const double n = static_cast<double>(3 * h.vertices.size());
   std::size_t hits = 0;
-  for_each_fan_sample(mesh, h, [&](const Vec3& x, double d) {
+  for_each_fan_sample_at(mesh, h, [&](const Vec3& x, double d) {
     if (seen(x)) ++hits;
     else if (unseen) unseen->push_back({x, h.area_m2 / n, d});
   });
@@ -165,7 +169,7 @@ template <EdgeMesh M, class Seen>
 /// whose fan lies in voxels already measured as surface is a gap of the triangulation, not missing surface, and the
 /// not yet seen surface of a partial model lies in loops longer than any h_max. `seen(x)`: x lies in a voxel
 /// measured as surface (e.g. p > Parameters::occupied_threshold). 0 for a mesh without triangles. `unseen`
-/// (optional) receives the fan samples A_empty is made of (Σ area_m2 = A_empty).
+/// (optional) gets the fan samples A_empty is made of appended (Σ area_m2 = A_empty).
 template <EdgeMesh M, class Seen>
 [[nodiscard]] double estimated_coverage_unseen(const M& mesh, const std::vector<Hole>& loops, Seen&& seen,
                                                std::vector<UnseenSample>* unseen = nullptr) {
@@ -183,7 +187,7 @@ struct FreeSeamRule {
 /// rule.min_free_share of its samples are free and not seen (a seam whose fan crosses measured empty space: no
 /// surface can lie there), else 1 − seen / n as in estimated_coverage_unseen. `seen(x)`, `free(x)`: world point x
 /// (m) lies in measured surface (or is walled in by it) / in measured free space. 0 for a loop without vertices.
-/// `unseen` (optional) receives the samples the share counts.
+/// `unseen` (optional) gets the samples the share counts appended.
 template <EdgeMesh M, class Seen, class Free>
 [[nodiscard]] double fan_unseen_share(const M& mesh, const Hole& h, Seen&& seen, Free&& free, const FreeSeamRule& rule,
                                       std::vector<UnseenSample>* unseen = nullptr) {
@@ -197,7 +201,7 @@ template <EdgeMesh M, class Seen, class Free>
   std::vector<Sample> samples;
   samples.reserve(3 * h.vertices.size());
   std::size_t hits = 0, empty = 0;
-  for_each_fan_sample(mesh, h, [&](const Vec3& x, double d) {
+  for_each_fan_sample_at(mesh, h, [&](const Vec3& x, double d) {
     State st = State::unknown;
     if (seen(x)) {
       st = State::seen;
@@ -220,8 +224,8 @@ template <EdgeMesh M, class Seen, class Free>
 }
 
 /// estimated_coverage_unseen with the free-seam rule: A_empty = Σ A_hole · fan_unseen_share(h, seen, free, rule)
-/// over `loops` (every closed border loop). 0 for a mesh without triangles. `unseen` (optional) receives the fan
-/// samples A_empty is made of (Σ area_m2 = A_empty).
+/// over `loops` (every closed border loop). 0 for a mesh without triangles. `unseen` (optional) gets the fan
+/// samples A_empty is made of appended (Σ area_m2 = A_empty).
 template <EdgeMesh M, class Seen, class Free>
 [[nodiscard]] double estimated_coverage_unseen_free(const M& mesh, const std::vector<Hole>& loops, Seen&& seen,
                                                     Free&& free, const FreeSeamRule& rule,

@@ -107,9 +107,9 @@ struct SelectionOptions {
   double length_offset_m = 0.05;       ///< SG: l_0 of the per-metre form (metres, > 0)
   bool surface_gain_modeling = false;  ///< SG, SGU: add ω(n_s)·m_s (SurfaceGain::Setting::modeling)
   double unseen_weight = 16.0;         ///< SGU: β, bits of g_rs per voxel face of unseen surface (≥ 0)
-  /// SGU: fan samples closer than this to their loop's edge are left out of g_u (metres, ≥ 0; one voxel of the
-  /// default space): there the loops are mostly gaps of the triangulation (spot, scans 8–12: 1–2 % of such samples
-  /// lie within 6 mm of missing surface, against 32–72 % of the others).
+  /// SGU: fan samples with UnseenSample::edge_distance_m below this are left out of g_u (metres, ≥ 0; one voxel of
+  /// the default space): they are mostly gaps of the triangulation (spot, scans 8–12: 1–2 % of them by count lie
+  /// within 6 mm of missing surface; 32–69 % of the others' area does).
   double unseen_min_edge_distance_m = 0.005;
   bool operator==(const SelectionOptions&) const = default;
 };

@@ -82,7 +82,7 @@ public:
   /// g_rs / N_v (bits per non-free voxel).
   [[nodiscard]] double rear_side_entropy() const { return terms_.get<0>().value() / setting_.non_free_voxels; }
   [[nodiscard]] double modeling() const { return terms_.get<1>().value(); }  ///< m_s, Eq. (4.34)
-  /// g_u / N_v (voxel faces of unseen surface per non-free voxel); 0 without an unseen map.
+  /// g_u / N_v (voxel faces of unseen surface per non-free voxel); 0 without an unseen map or with β = 0.
   [[nodiscard]] double unseen_gain() const { return terms_.get<2>().value() / setting_.non_free_voxels; }
   [[nodiscard]] const Setting& setting() const { return setting_; }
 
