@@ -9,8 +9,9 @@
 //                                            search per voxel until an occupied voxel, same trees, same segments
 //   space.raycast_2thread_scaling         — cast_rays on 2 threads ÷ 1 thread
 //   space.area_frame_integrate_s          — median over 5 frames (quick: 3) of the wall time (s) of integrate() of
-//                                            one Asus Xtion frame (640 × 480) of the bunny on a table, 5 mm, 1 thread
-//   space.area_frame_vs_octomap           — OctoMap insertPointCloud time ÷ that time, same points, same frames
+//                                            one Asus Xtion frame (640 × 480) of the bunny on a table, 5 mm, 2 threads
+//   space.area_frame_integrate_s@1thread  — the same on 1 thread (report)
+//   space.area_frame_vs_octomap           — OctoMap insertPointCloud time ÷ the 1-thread time, same points, frames
 // Each figure is the ratio of the best of N alternating repetitions measured in this process.
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
@@ -207,29 +208,38 @@ void area_frame_headlines(int reps, int n_frames) {
     clouds.push_back(std::move(c));
     frames.push_back(std::move(f));
   }
-  // Each repetition integrates the frames in order into a fresh space / tree, timing every call; per frame the best
-  // over the repetitions (the calls of both alternate), then the median over the frames.
-  std::vector<double> t_nbs(frames.size(), INFINITY), t_octo(frames.size(), INFINITY);
+  // Each repetition integrates the frames in order into fresh spaces (1 and 2 threads) and a fresh tree, timing every
+  // call; per frame the best over the repetitions (the calls alternate), then the median over the frames.
+  std::vector<double> t_one(frames.size(), INFINITY), t_two(frames.size(), INFINITY), t_octo(frames.size(), INFINITY);
   std::size_t points = 0;
+  bool same = true;
+  unsigned threads_used = 0;
   for (int r = 0; r < reps; ++r) {
-    nbs::ProbabilisticVoxelSpace<> space(0.005, box);
+    nbs::ProbabilisticVoxelSpace<> one(0.005, box), two(0.005, box);
     auto tree = nbs::octomap::bbx_limited_octree(0.005, box);
     points = 0;
     for (std::size_t k = 0; k < frames.size(); ++k) {
       points += frames[k].size();
-      t_nbs[k] = std::min(t_nbs[k], nbs::bench::seconds([&] { (void)space.integrate(frames[k]); }));
+      t_one[k] = std::min(t_one[k], nbs::bench::seconds([&] { (void)one.integrate(frames[k], 1); }));
+      t_two[k] = std::min(t_two[k], nbs::bench::seconds([&] { (void)two.integrate(frames[k], 2); }));
+      threads_used = std::max(threads_used, two.last_integrate_threads());
       t_octo[k] = std::min(t_octo[k], nbs::bench::seconds([&] { tree.insertPointCloud(clouds[k], origins[k]); }));
     }
+    same = same && state_checksum(one) == state_checksum(two);
   }
   std::printf("space: area frames: %zu Xtion frames, %zu rays cast, %zu points inside the space (%.0f per frame)\n",
               frames.size(), std::size_t(cast), points, double(points) / double(frames.size()));
   for (std::size_t k = 0; k < frames.size(); ++k)
-    std::printf("space: area frame %zu: %zu points, nbs %.1f ms, OctoMap %.1f ms\n", k, frames[k].size(),
-                1e3 * t_nbs[k], 1e3 * t_octo[k]);
-  nbs::bench::report_headline("space.area_frame_integrate_s", median(t_nbs),
-                              "target <= 0.033; 1 thread (integrate has no thread parameter), 5 mm");
-  nbs::bench::report_headline("space.area_frame_vs_octomap", median(t_octo) / median(t_nbs),
-                              "OctoMap insertPointCloud time / nbs, same points");
+    std::printf("space: area frame %zu: %zu points, nbs %.1f ms (1 thread) / %.1f ms (2 threads), OctoMap %.1f ms\n", k,
+                frames[k].size(), 1e3 * t_one[k], 1e3 * t_two[k], 1e3 * t_octo[k]);
+  std::printf("space: area frames: 1- and 2-thread spaces %s; 2-thread integrate ran on %u threads\n",
+              same ? "identical (state checksums)" : "DIFFER", threads_used);
+  nbs::bench::report_headline("space.area_frame_integrate_s", median(t_two),
+                              same ? "target <= 0.033; 2 threads (integrate(scan, 2)), 5 mm"
+                                   : "INVALID: the 2-thread space differs from the 1-thread space");
+  nbs::bench::report_headline("space.area_frame_integrate_s@1thread", median(t_one), "report: the same on 1 thread");
+  nbs::bench::report_headline("space.area_frame_vs_octomap", median(t_octo) / median(t_one),
+                              "OctoMap insertPointCloud time / nbs on 1 thread, same points");
 }
 
 // ---- Headlines ------------------------------------------------------------------------------------------------------

@@ -194,7 +194,7 @@ int run(const Options& opt) {
   explore::RecognitionViewSetting aim;
   aim.threads = opt.threads > 0 ? opt.threads : std::max(1U, std::thread::hardware_concurrency());
   explore::OverviewRing<embree::SimulatedScanner, Space> source{&overview_scanner.scanner(), xtion, &space, ring, opt.seed,
-                                                                aim, std::nullopt};
+                                                                aim, std::nullopt, opt.threads};
   explore::NbsObjectModeler<embree::SimulatedScanner, Space> modeler{&model_scanner, &space, opt.object_scans, opt.seed,
                                                                      opt.threads, {}, 0, !opt.blind_planner};
   explore::ExplorationSetting es;

@@ -9,6 +9,7 @@
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "support/single_beam.hpp"
+#include "support/random_scan.hpp"
 #include "support/synthetic_scan.hpp"
 #include "support/test_boxes.hpp"
 #include "nbs_random.hpp"
@@ -136,24 +137,6 @@ TEST_CASE("native and generic paths agree on a synthetic LSP scan", "[space][pvs
 }
 
 namespace {
-// Seeded random scans: `profiles` profiles, each from one origin at 0.2–0.4 m from the box centre, with `rays` beams
-// to points spread over the box (a few outside it, counted as rejected), origins and end points on float values.
-nbs::Scan random_scan(std::mt19937_64& rng, int profiles, int rays) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0), r(0.2, 0.4);
-  nbs::Scan s;
-  for (int p = 0; p < profiles; ++p) {
-    nbs::Pose pose = nbs::Pose::Identity();
-    const double radius = r(rng);
-    pose.translation() = (Vec3(0.0, 0.0, 0.1) + radius * nbs_test::random_vec3(u, rng).normalized()).cast<float>().cast<double>();
-    s.profile_poses.push_back(pose);
-    const Vec3 aim = Vec3(0.0, 0.0, 0.1) + 0.09 * nbs_test::random_vec3(u, rng);
-    for (int i = 0; i < rays; ++i)  // a cluster around `aim`, so beams revisit voxels within the scan
-      s.add_point((aim + 0.02 * nbs_test::random_vec3(u, rng)).cast<float>().cast<double>(), static_cast<std::uint32_t>(p));
-  }
-  s.rays_cast = s.points.size();
-  return s;
-}
-
 // Integrates the same seeded random scans into the native space (block walk, common-denominator DDA) and the generic
 // one (SegmentWalker, per-voxel backend access, hash set of touched voxels): every statistic and voxel state agrees.
 template <class Model>
@@ -164,7 +147,7 @@ void check_native_equals_generic(double resolution_m, const Model& model, int sc
   nbs::ProbabilisticVoxelSpace<Wrapped<State>, Model> generic(resolution_m, box, model);
   std::mt19937_64 rng(static_cast<std::uint64_t>(resolution_m * 1e7) + static_cast<std::uint64_t>(scans));
   for (int k = 0; k < scans; ++k) {
-    const nbs::Scan scan = random_scan(rng, profiles, rays);
+    const nbs::Scan scan = nbs::test::random_scan(rng, profiles, rays);
     const auto a = native.integrate(scan), b = generic.integrate(scan);
     INFO("resolution " << resolution_m << ", scan " << k);
     REQUIRE(a.integrated == b.integrated);

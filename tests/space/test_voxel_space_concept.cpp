@@ -16,6 +16,9 @@ static_assert(!nbs::NoiseModelSpace<MyVoxelSpace>);
 static_assert(nbs::BatchRayCastingSpace<nbs::ProbabilisticVoxelSpace<>>);
 static_assert(nbs::NoiseModelSpace<nbs::ProbabilisticVoxelSpace<>>);
 static_assert(nbs::BlockBackend<nbs::HashedBlockBackend<nbs::ThesisState>>);
+static_assert(nbs::ParallelIntegratingSpace<nbs::ProbabilisticVoxelSpace<>>);
+static_assert(!nbs::ParallelIntegratingSpace<MyVoxelSpace>);
+static_assert(nbs::ConcurrentBlockBackend<nbs::HashedBlockBackend<nbs::ThesisState>>);
 
 TEMPLATE_TEST_CASE("VoxelSpace conformance", "[space][concept]", nbs::ProbabilisticVoxelSpace<>,
                    (nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<nbs::LogOddsState>, nbs::LogOddsModel>),

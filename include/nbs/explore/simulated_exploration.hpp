@@ -27,16 +27,18 @@
 
 namespace nbs::explore {
 
-/// A ScanDriver that integrates every acquired scan into `space` as well (borrowed): the scene's shared voxel space.
+/// A ScanDriver that integrates every acquired scan into `space` as well (borrowed): the scene's shared voxel space,
+/// on `threads` threads where the space can (0 = hardware concurrency; the same space for any count).
 template <ScanDriver Driver, VoxelSpace Space>
 struct SpaceSharingDriver {
   Driver inner;
   Space* space;
+  unsigned threads = 0;
   void move_to(const Pose& T_WS) { inner.move_to(T_WS); }
   [[nodiscard]] Pose current_pose() const { return inner.current_pose(); }
   Scan acquire(const LinearScanPath& path) {
     Scan s = inner.acquire(path);
-    if (!s.empty()) (void)space->integrate(s);
+    if (!s.empty()) (void)integrate_scan(*space, s, threads);
     return s;
   }
 };
@@ -45,8 +47,9 @@ struct SpaceSharingDriver {
 /// `space` (with the thesis's update model one frame leaves surface voxels below p = 0.75, so v_h needs several), the
 /// middle one returned. `overview(step)` looks from the ring (`setting`); `overview(step, boxes)` from the planned
 /// recognition view of the boxes (plan_recognition_view over `space` with `aim`; the frames spread in azimuth around
-/// it as on the ring), kept in `last_aimed`. Frame i of the whole run uses noise seed seed · 1000 + i. Borrows
-/// scanner and space.
+/// it as on the ring), kept in `last_aimed`. Frame i of the whole run uses noise seed seed · 1000 + i. Frames are
+/// integrated on `threads` threads where the space can (0 = hardware concurrency; the same space for any count).
+/// Borrows scanner and space.
 template <class Scanner, VoxelSpace Space>
   requires ScanSimulator<Scanner, AreaSensor>
 struct OverviewRing {
@@ -57,6 +60,7 @@ struct OverviewRing {
   std::uint64_t seed = 1;
   RecognitionViewSetting aim{};
   std::optional<RecognitionView> last_aimed{};  ///< the planned view of the last overview (none: the ring's)
+  unsigned threads = 0;
 
   Scan overview(int step) {
     check();
@@ -87,7 +91,7 @@ private:
       const Vec3 eye = setting.eye(target, azimuth_rad + k * setting.frame_spread_rad, elevation_rad);
       const auto frame = static_cast<std::uint64_t>(step * setting.frames_per_step + k + half);
       Scan s = scanner->scan(LinearScanPath(Viewpoint::look_at(eye, target)), sensor, seed * 1000 + frame);
-      (void)space->integrate(s);
+      (void)integrate_scan(*space, s, threads);
       if (k == 0) middle = std::move(s);
     }
     return middle;
@@ -107,7 +111,7 @@ struct NbsObjectModeler {
   Space* space;
   int object_scans = 20;
   std::uint64_t seed = 1;
-  unsigned threads = 0;  ///< candidate evaluation (0: hardware concurrency; plans do not depend on it)
+  unsigned threads = 0;  ///< candidate evaluation and scan integration (0: hardware concurrency; plans do not depend on it)
   Parameters params{};
   int objects = 0;  ///< modeled so far
   bool predict_occlusion = true;  ///< cut the planner's beams at the scene's occupied voxels outside the box
@@ -125,7 +129,7 @@ struct NbsObjectModeler {
     NbsPlanner<> planner(p, presets::dlr_lsp(), h.box, ps);
     using Driver = SimulatedDriver<Scanner, LaserStripeProfiler>;
     SpaceSharingDriver<Driver, Space> driver{Driver(*scanner, planner.sensor(), seed + static_cast<std::uint64_t>(++objects)),
-                                             space};
+                                             space, ps.threads};
     SimulationSetting ss;
     ss.seed = seed;
     ss.max_scans = p.max_scans;

@@ -183,7 +183,9 @@ public:
       // A mesh that can reject a scan the space accepts checks it first, so that it cannot throw after the space
       // changed (StreamingMesh: coordinates outside its spatial hash's range).
       if constexpr (ChecksScans<Mesh>) mesh_->check_scan(scan);
-      r.space = space_->integrate(scan);  // all or nothing: a throw leaves the planner unchanged (n_s not counted)
+      // All or nothing: a throw leaves the planner unchanged (n_s not counted). On setting().threads threads where
+      // the space can (the same space for any count).
+      r.space = integrate_scan(*space_, scan, setting_.threads);
       r.t_space_s = lap();
       r.meshed = mesh_->integrate(scan);
       r.t_mesh_s = lap();

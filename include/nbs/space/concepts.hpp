@@ -10,7 +10,9 @@
 /// | `VoxelSpace` | integrate scans; p / occupied / observed per key; key ↔ position; planning ray casts | ProbabilisticVoxelSpace (any backend), a user space (examples/my_voxel_space.hpp) |
 /// | `BatchRayCastingSpace` | `cast_rays(rays, threads, visit)`, identical for any thread count | ProbabilisticVoxelSpace |
 /// | `NoiseModelSpace` | built with a sensor-noise σ(d) (the thesis's inverse sensor model, Sec. 3.3.2) | ProbabilisticVoxelSpace<B, ThesisModel> |
+/// | `ParallelIntegratingSpace` | `integrate(scan, threads)`, identical for any thread count | ProbabilisticVoxelSpace |
 /// | `BlockBackend` | storage in blocks of kEdge³ voxels with per-scan touched bits and cached readers | HashedBlockBackend |
+/// | `ConcurrentBlockBackend` | a BlockBackend whose threads may write disjoint blocks at once | HashedBlockBackend |
 ///
 /// Frames: world, metres. Thread-safety of every model: const members may run concurrently; `integrate` needs
 /// exclusive access.
@@ -18,6 +20,7 @@
 #include <concepts>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -86,6 +89,24 @@ concept BatchRayCastingSpace =
       { cs.cast_rays(rays, threads, visit) } -> std::convertible_to<std::vector<RaycastResult>>;
     };
 
+/// Capability: `integrate(scan, threads)` fuses a scan on `threads` std::threads (0 = hardware concurrency) with the
+/// same voxel states and IntegrationStats as `integrate(scan)`, for any thread count.
+template <class S>
+concept ParallelIntegratingSpace = VoxelSpace<S> && requires(S& s, const Scan& scan, unsigned threads) {
+  { s.integrate(scan, threads) } -> std::convertible_to<IntegrationStats>;
+};
+
+/// `space.integrate(scan, threads)` where the space has it (ParallelIntegratingSpace), else `space.integrate(scan)`.
+template <VoxelSpace S>
+IntegrationStats integrate_scan(S& space, const Scan& scan, unsigned threads) {
+  if constexpr (ParallelIntegratingSpace<S>) {
+    return space.integrate(scan, threads);
+  } else {
+    (void)threads;
+    return space.integrate(scan);
+  }
+}
+
 /// Capability: the space can be built as S(l_v, box, ModelType(setting)) with the range noise σ(d) of the sensor
 /// (`setting.sigma_m`, metres → metres), which its inverse sensor model uses (the thesis model, Sec. 3.3.2). The planner builds such a space with its sensor's σ(d).
 template <class S>
@@ -122,6 +143,19 @@ concept BlockBackend =
       { blk.touch(i) } -> std::convertible_to<bool>;
       { cblk.is_touched(i) } -> std::convertible_to<bool>;
       { rd.find(id) } -> std::convertible_to<const typename B::Block*>;
+    };
+
+/// Capability of a BlockBackend: threads that write disjoint sets of blocks may do so at once, each through its own
+/// `B::ConcurrentWriter w(b, mutex)` (one std::mutex shared by them): `w.block(id)` → Block& (as b.block(id)),
+/// `w.note_observed(block, i)`, and `w.commit()` when the thread's writes are done. Until every writer has committed,
+/// nothing else may use b.
+template <class B>
+concept ConcurrentBlockBackend =
+    BlockBackend<B> && std::constructible_from<typename B::ConcurrentWriter, B&, std::mutex&> &&
+    requires(typename B::ConcurrentWriter& w, std::uint64_t id, typename B::Block& blk, int i) {
+      { w.block(id) } -> std::same_as<typename B::Block&>;
+      w.note_observed(blk, i);
+      w.commit();
     };
 
 }  // namespace nbs

@@ -18,11 +18,13 @@
 /// calls stay free of shared mutable state.
 ///
 /// Thread-safety: concurrent const calls are safe (also on flushed blocks: they only read files); writes, end_scan and
-/// the flush calls need exclusive access. Const calls on a flushed block throw FileError if its file cannot be read.
+/// the flush calls need exclusive access, except writes to disjoint blocks through one ConcurrentWriter per thread.
+/// Const calls on a flushed block throw FileError if its file cannot be read.
 ///
 /// The flush setting and counters are in block_flush.hpp, the block files in detail/block_files.hpp, the flushing
 /// and reloading members in detail/hashed_block_flush.hpp (included at the end), the cached read-only lookups
-/// (Reader) in detail/block_reader.hpp.
+/// (Reader) in detail/block_reader.hpp, the writer of one thread of a parallel scan (ConcurrentWriter) in
+/// detail/block_writer.hpp.
 
 #include <algorithm>
 #include <array>
@@ -44,6 +46,7 @@
 #include "nbs/space/detail/block_files.hpp"
 #include "nbs/space/detail/block_folder_lock.hpp"
 #include "nbs/space/detail/block_reader.hpp"
+#include "nbs/space/detail/block_writer.hpp"
 #include "nbs/space/voxel_key.hpp"
 
 namespace nbs {
@@ -206,6 +209,22 @@ public:
     if (c.id == id) return *c.block;
     return block_slow(id, c);
   }
+  /// Write access for one of several threads that write disjoint sets of blocks concurrently, one writer per thread
+  /// over one shared mutex (ConcurrentBlockBackend, space/concepts.hpp; detail/block_writer.hpp).
+  using ConcurrentWriter = detail::ConcurrentBlockWriter<HashedBlockBackend>;
+  /// block(id) without the cache, which it leaves unchanged: not thread-safe; ConcurrentWriter calls it under its
+  /// mutex (the block itself is then written by one thread only).
+  [[nodiscard]] Block& block_uncached(std::uint64_t id) {
+    Block* b = find_or_make(id);
+    if (b->scan != epoch_) {
+      b->scan = epoch_;
+      b->touched.fill(0);
+    }
+    b->last_written = epoch_;
+    return *b;
+  }
+  /// Adds n voxels written for the first time through a ConcurrentWriter to size().
+  void add_observed(std::size_t n) { observed_ += n; }
   /// True if every voxel of the key box with corners a and b (any order, at most 64 voxels, else false) was marked
   /// updated in the current epoch (Block::touch after next_epoch()). Reads only: no block is allocated or reloaded.
   [[nodiscard]] bool all_touched(const VoxelKey& a, const VoxelKey& b) const {
@@ -414,14 +433,9 @@ private:
 
   // block() after a cache miss: hash map (allocation, reload), epoch of the touched mask, cache entry c.
   [[gnu::noinline]] Block& block_slow(std::uint64_t id, CacheEntry& c) {
-    Block* b = find_or_make(id);
-    if (b->scan != epoch_) {
-      b->scan = epoch_;
-      b->touched.fill(0);
-    }
-    b->last_written = epoch_;
-    c = {id, b};
-    return *b;
+    Block& b = block_uncached(id);
+    c = {id, &b};
+    return b;
   }
 
   VoxelGrid grid_{1.0};

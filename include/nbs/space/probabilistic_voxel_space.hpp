@@ -5,10 +5,15 @@
 /// the bounding box of the unknown area (Sec. 4.1), with beam independence and planning ray casts.
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
 #include <span>
 #include <thread>
 #include <type_traits>
@@ -16,11 +21,13 @@
 #include <utility>
 #include <vector>
 
+#include "nbs/core/detail/parallel_for.hpp"
 #include "nbs/core/error.hpp"
 #include "nbs/core/scan.hpp"
 #include "nbs/space/backend.hpp"
 #include "nbs/space/concepts.hpp"
 #include "nbs/space/detail/block_walk.hpp"
+#include "nbs/space/detail/slab_split.hpp"
 #include "nbs/space/hashed_block_backend.hpp"
 #include "nbs/space/ray_cast.hpp"
 #include "nbs/space/space_types.hpp"
@@ -58,41 +65,44 @@ public:
   /// outside the unknown area, and beams the model refuses, are counted and skipped. Each voxel is updated at most
   /// once per scan; the voxels around the end points (the model's band) take precedence over pass-through voxels,
   /// as in OctoMap's insertPointCloud. Returns what happened to this scan (also added to totals()).
-  IntegrationStats integrate(const Scan& scan) {
+  IntegrationStats integrate(const Scan& scan) { return integrate(scan, 1); }
+
+  /// integrate(scan) on `threads` std::threads (0 = hardware concurrency): the same voxel states and statistics for
+  /// any thread count (ParallelIntegratingSpace). The beams are prepared (range, model beam, clipped segments) in
+  /// blocks of points, one per thread. With a ConcurrentBlockBackend the keys are then cut into one slab of whole
+  /// blocks per thread along one axis (the axis and cuts that balance the free walks' voxel counts best); each thread
+  /// runs both passes over every beam, in order, on the voxels of its slab only (detail::walk_untouched_slab), so each
+  /// voxel meets the beams in the order one thread would; other backends run the passes on the calling thread. Scans
+  /// of fewer than kParallelMinBeams points run on the calling thread. With threads > 1 the model's const members are
+  /// called concurrently.
+  IntegrationStats integrate(const Scan& scan, unsigned threads) {
     scan.validate();
+    threads = detail::resolve_threads(threads);
+    if (scan.size() < kParallelMinBeams) threads = 1;
+    // The beams, in scan order (rejected points keep their slot, marked), prepared on the threads in blocks.
+    beams_.resize(scan.size());  // default-initialised (no stores): the threads write them first
+    detail::parallel_for(beams_.size(), threads, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) prepare_beam(scan, i, beams_[i]);
+    });
     IntegrationStats st;
     st.points = scan.size();
-    beams_.clear();
-    beams_.reserve(scan.size());
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      const Vec3 o = scan.origin(i);
-      const Vec3& p = scan.points[i];
-      const double r = (p - o).norm();
-      if (!(r > 0.0)) {
-        ++st.rejected_zero_length;
-        continue;
-      }
-      if (!bounds().contains(p)) {
-        ++st.rejected_outside_bounds;
-        continue;
-      }
-      const Vec3 dir = (p - o) / r;
-      auto b = model_.beam(r, dir);
-      if (!b) {
-        ++st.rejected_model;
-        continue;
-      }
-      beams_.push_back({o, p, dir, r, *b, detail::SegmentSetup::to_fixed(Vec3(p * grid().inverse_resolution()))});
+    for (const BeamRecord& b : beams()) {
+      st.rejected_zero_length += b.kind == BeamKind::zero_length ? 1 : 0;
+      st.rejected_outside_bounds += b.kind == BeamKind::outside_bounds ? 1 : 0;
+      st.rejected_model += b.kind == BeamKind::refused ? 1 : 0;
     }
-    st.integrated = beams_.size();
+    st.integrated = st.points - st.rejected_zero_length - st.rejected_outside_bounds - st.rejected_model;
     if constexpr (BlockBackend<Backend>) stage_flushed_blocks();  // may throw FileError: nothing changed yet
     begin_scan();
-    for (const BeamRecord& b : beams_) band_pass(b, st);
-    for (const BeamRecord& b : beams_) free_pass(b, st);
+    run_passes(scan, threads, st);
     if constexpr (BlockBackend<Backend>) backend_.end_scan();  // flush policy (off by default)
     totals_ += st;
     return st;
   }
+  /// Scans with fewer beams are integrated on one thread by integrate(scan, threads).
+  static constexpr std::size_t kParallelMinBeams = 2048;
+  /// The threads the last integrate ran its passes on (one per slab; 1 before the first scan).
+  [[nodiscard]] unsigned last_integrate_threads() const { return last_threads_; }
 
   // ---- Queries -----------------------------------------------------------------------------------------------
   [[nodiscard]] const VoxelGrid& grid() const { return area_.grid(); }
@@ -187,13 +197,130 @@ public:
   static constexpr std::size_t kCastChunk = 64;
 
 private:
+  enum class BeamKind : std::uint8_t {
+    zero_length,     ///< rejected: end point == origin
+    outside_bounds,  ///< rejected: end point outside bounds()
+    refused,         ///< rejected by the model
+    band_end_voxel,  ///< the band lies in the end voxel: update_band(s, beam, 0, true) there, no walk
+    band_walk,       ///< the band is walked from band_from to band_to (the end voxel among its voxels)
+    band_none,       ///< the clipped band is empty (cannot happen: the end point is inside)
+  };
+  /// A beam as the passes need it; fixed-point points in voxel units · 2^10 (SegmentSetup::to_fixed), which fit
+  /// 32 bits since |coordinate| ≤ 2^20 voxels.
+  /// (Origin, direction and range are not kept: the band walk recomputes them from the scan, with the same
+  /// arithmetic; a smaller record is faster to write for an area frame of 300 000 points.)
   struct BeamRecord {
-    Vec3 origin;
-    Vec3 end;
-    Vec3 dir;
-    double range_m;
+    using Fixed32 = std::array<std::int32_t, 3>;
     typename Model::Beam beam;
-    detail::SegmentSetup::Fixed end_fixed;  ///< end point in the walks' fixed point (voxel units · 2^10)
+    Fixed32 end;        ///< end point
+    Fixed32 free_from;  ///< entry of the free segment (origin → end) into voxel_bounds(), if free_walk
+    Fixed32 band_from;  ///< the band (end ∓ half width along dir) clipped to voxel_bounds(), if band_walk
+    Fixed32 band_to;
+    BeamKind kind;
+    bool free_walk;  ///< the free segment meets voxel_bounds()
+
+    [[nodiscard]] bool used() const { return kind >= BeamKind::band_end_voxel; }
+    [[nodiscard]] static detail::SegmentSetup::Fixed wide(const Fixed32& f) { return {f[0], f[1], f[2]}; }
+    [[nodiscard]] static Fixed32 narrow(const detail::SegmentSetup::Fixed& f) {
+      return {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])};
+    }
+    [[nodiscard]] VoxelKey end_key() const { return {end[0] >> kFixedBits, end[1] >> kFixedBits, end[2] >> kFixedBits}; }
+    [[nodiscard]] detail::SegmentSetup free_segment() const { return {wide(free_from), wide(end)}; }
+    [[nodiscard]] detail::SegmentSetup band_segment() const { return {wide(band_from), wide(band_to)}; }
+  };
+  static constexpr int kFixedBits = detail::kDdaFractionBits;
+  [[nodiscard]] static double beam_range(const Vec3& o, const Vec3& p) { return (p - o).norm(); }
+  [[nodiscard]] static Vec3 beam_direction(const Vec3& o, const Vec3& p, double range_m) { return (p - o) / range_m; }
+  [[nodiscard]] std::span<const BeamRecord> beams() const { return beams_; }
+  /// std::allocator whose value-less construct default-initialises, so that resize() leaves trivial records unwritten.
+  template <class T>
+  struct DefaultInitAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+      using other = DefaultInitAllocator<U>;
+    };
+    DefaultInitAllocator() = default;
+    template <class U>
+    DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      std::allocator_traits<std::allocator<T>>::construct(static_cast<std::allocator<T>&>(*this), p,
+                                                          static_cast<Args&&>(args)...);
+    }
+  };
+
+  // The record of point i of scan (any thread: writes only rec).
+  void prepare_beam(const Scan& scan, std::size_t i, BeamRecord& rec) const {
+    using Q = detail::SegmentSetup;
+    const Vec3 o = scan.origin(i);
+    const Vec3& p = scan.points[i];
+    const double r = beam_range(o, p);
+    if (!(r > 0.0)) {
+      rec.kind = BeamKind::zero_length;
+      return;
+    }
+    if (!bounds().contains(p)) {
+      rec.kind = BeamKind::outside_bounds;
+      return;
+    }
+    const Vec3 dir = beam_direction(o, p, r);
+    const auto b = model_.beam(r, dir);
+    if (!b) {
+      rec.kind = BeamKind::refused;
+      return;
+    }
+    const double inv = grid().inverse_resolution();
+    rec.beam = *b;
+    rec.end = BeamRecord::narrow(Q::to_fixed(Vec3(p * inv)));
+    double t0, t1;
+    rec.free_walk = detail::clip_segment(o, p, voxel_bounds(), t0, t1);
+    if (rec.free_walk) rec.free_from = BeamRecord::narrow(Q::to_fixed(Vec3(detail::point_in_box(o, p, t0, voxel_bounds()) * inv)));
+    // The band. Inside the end voxel (which lies inside voxel_bounds()): no clipping, no walk. Else clipped; with
+    // both ends inside, clip_segment would return exactly [0, 1] (quotients of monotonically rounded differences), so
+    // the divisions are skipped, and point_in_box(a, e, 0) is a itself.
+    const double w = model_.band_half_width_m(rec.beam);
+    const Vec3 a = p - w * dir, e = p + w * dir;
+    const VoxelKey end_key = rec.end_key();  // = grid().key_of(p), see SegmentSetup::to_fixed
+    if constexpr (BlockBackend<Backend>) {
+      if (grid().in_voxel(a, end_key) && grid().in_voxel(e, end_key)) {
+        rec.kind = BeamKind::band_end_voxel;
+        return;
+      }
+    }
+    Vec3 from, to;
+    if (inside(a, voxel_bounds()) && inside(e, voxel_bounds())) {
+      from = a;
+      to = detail::point_in_box(a, e, 1.0, voxel_bounds());
+    } else {
+      if (!detail::clip_segment(a, e, voxel_bounds(), t0, t1)) {
+        rec.kind = BeamKind::band_none;
+        return;
+      }
+      from = detail::point_in_box(a, e, t0, voxel_bounds());
+      to = detail::point_in_box(a, e, t1, voxel_bounds());
+    }
+    rec.band_from = BeamRecord::narrow(Q::to_fixed(Vec3(from * inv)));
+    rec.band_to = BeamRecord::narrow(Q::to_fixed(Vec3(to * inv)));
+    rec.kind = BeamKind::band_walk;
+    if constexpr (BlockBackend<Backend>) {
+      // The walk's keys are VoxelGrid::key_of of the same points (see SegmentSetup::to_fixed): a band whose ends lie in
+      // one voxel (the end voxel) needs no walk.
+      if (Q::key_of_fixed(BeamRecord::wide(rec.band_from)) == Q::key_of_fixed(BeamRecord::wide(rec.band_to)))
+        rec.kind = BeamKind::band_end_voxel;
+    }
+  }
+
+  /// One thread's passes: its slab, its statistics, and the band walk it remembers (see band_pass).
+  struct PassState {
+    static constexpr std::int32_t kNone = VoxelKey::kMinIndex - 1;  // no walk has this key
+    detail::KeySlab slab;  ///< the voxels this thread updates (everything by default)
+    IntegrationStats st;
+    VoxelKey band_first{kNone, kNone, kNone}, band_last{kNone, kNone, kNone};
+    std::uint64_t band_voxels = 0;  ///< voxels of that band walk in the slab
   };
   struct NoReader {
     explicit NoReader(const Backend&) {}
@@ -238,21 +365,11 @@ private:
           w.step();
         }
       };
-      const double inv = grid().inverse_resolution();
-      for (const BeamRecord& b : beams_) {
-        const double w = model_.band_half_width_m(b.beam);
-        const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
-        note(Backend::block_id(Q::key_of_fixed(b.end_fixed)));
-        double t0, t1;
-        if (detail::clip_segment(a, e, voxel_bounds(), t0, t1)) {
-          const Vec3 from = detail::point_in_box(a, e, t0, voxel_bounds());
-          const Vec3 to = detail::point_in_box(a, e, t1, voxel_bounds());
-          collect(Q(Q::to_fixed(Vec3(from * inv)), Q::to_fixed(Vec3(to * inv))), true);
-        }
-        if (detail::clip_segment(b.origin, b.end, voxel_bounds(), t0, t1)) {
-          const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds());
-          collect(Q(Q::to_fixed(Vec3(from * inv)), b.end_fixed), false);
-        }
+      for (const BeamRecord& b : beams()) {
+        if (!b.used()) continue;
+        note(Backend::block_id(b.end_key()));
+        if (b.kind == BeamKind::band_walk) collect(b.band_segment(), true);
+        if (b.free_walk) collect(b.free_segment(), false);
       }
       std::sort(ids.begin(), ids.end());
       ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
@@ -263,12 +380,54 @@ private:
   void begin_scan() {
     if constexpr (BlockBackend<Backend>) {
       (void)backend_.next_epoch();
-      constexpr std::int32_t kNone = VoxelKey::kMinIndex - 1;  // no walk has this key
-      full_band_[0] = full_band_[1] = VoxelKey{kNone, kNone, kNone};
     } else {
       touched_.clear();
     }
   }
+
+  // Both passes over every beam on the calling thread, or in parallel, one thread per slab of balance_slabs (see
+  // integrate(scan, threads)); adds the walks' statistics to st.
+  void run_passes(const Scan& scan, unsigned threads, IntegrationStats& st) {
+    if constexpr (ConcurrentBlockBackend<Backend>) {
+      if (threads > 1) {
+        // The cut is balanced on at most kSplitSample beams, evenly spaced: a free walk weighs its voxels, a band
+        // kBandWeight voxels at the end voxel (measured: a band costs about as much as 20 free-walk voxels).
+        const std::size_t stride = std::max<std::size_t>(1, beams_.size() / kSplitSample);
+        const auto walk_of = [&](std::size_t k) -> std::optional<detail::WeightedWalk> {
+          const BeamRecord& b = beams_[(k / 2) * stride];
+          if (!b.used()) return std::nullopt;
+          if (k % 2 == 1) return detail::WeightedWalk{b.end_key(), b.end_key(), kBandWeight};
+          if (!b.free_walk) return std::nullopt;
+          const VoxelKey a = b.free_segment().key, e = b.end_key();
+          return detail::WeightedWalk{a, e, 1.0 + std::abs(e.x - a.x) + std::abs(e.y - a.y) + std::abs(e.z - a.z)};
+        };
+        const std::vector<detail::KeySlab> slabs =
+            detail::balance_slabs(2 * (beams_.size() / stride), walk_of, threads, Backend::kEdgeBits);
+        std::vector<PassState> ps(slabs.size());
+        std::mutex m;
+        detail::parallel_for(slabs.size(), static_cast<unsigned>(slabs.size()), [&](std::size_t lo, std::size_t hi) {
+          for (std::size_t t = lo; t < hi; ++t) {
+            typename Backend::ConcurrentWriter w(backend_, m);
+            ps[t].slab = slabs[t];
+            for (std::size_t i = 0; i < beams_.size(); ++i) band_pass(scan, i, w, ps[t]);
+            for (const BeamRecord& b : beams()) free_pass(b, w, ps[t]);
+            w.commit();
+          }
+        });
+        for (const PassState& p : ps) st += p.st;
+        last_threads_ = static_cast<unsigned>(slabs.size());
+        return;
+      }
+    }
+    PassState ps;
+    for (std::size_t i = 0; i < beams_.size(); ++i) band_pass(scan, i, backend_, ps);
+    for (const BeamRecord& b : beams()) free_pass(b, backend_, ps);
+    st += ps.st;
+    last_threads_ = 1;
+  }
+  /// Beams sampled for the cut of integrate(scan, threads), and the weight of a band in free-walk voxels.
+  static constexpr std::size_t kSplitSample = 8192;
+  static constexpr double kBandWeight = 20.0;
 
   // Calls apply(State&) for voxel k unless it was already touched in this scan; writes back if updated.
   template <class Apply>
@@ -281,22 +440,23 @@ private:
     count(apply(s), st, [&] { set_voxel_state(backend_, k, s); });
     return true;
   }
-  // Native path: apply(State&) to voxel i of blk unless it was already touched in this scan; writes back if updated.
-  template <class Block, class Apply>
-  void update_native(Block& blk, int i, IntegrationStats& st, Apply&& apply) {
+  // Native path: apply(State&) to voxel i of blk unless it was already touched in this scan; writes back (through
+  // the writer w: the backend or a thread's ConcurrentWriter) if updated.
+  template <class W, class Block, class Apply>
+  void update_native(W& w, Block& blk, int i, IntegrationStats& st, Apply&& apply) {
     if (!blk.touch(i)) {
       ++st.voxels_same_scan;
       return;
     }
-    update_fresh(blk, i, st, apply);
+    update_fresh(w, blk, i, st, apply);
   }
   // apply(State&) to voxel i of blk, whose touched bit the caller has just set; writes back if updated.
-  template <class Block, class Apply>
-  void update_fresh(Block& blk, int i, IntegrationStats& st, Apply&& apply) {
+  template <class W, class Block, class Apply>
+  void update_fresh(W& w, Block& blk, int i, IntegrationStats& st, Apply&& apply) {
     State s = blk.get(i);
     count(apply(s), st, [&] {
       blk.put(i, s);
-      backend_.note_observed(blk, i);
+      w.note_observed(blk, i);
     });
   }
   template <class OnUpdate>
@@ -309,102 +469,105 @@ private:
     }
   }
 
+  struct WalkCount {
+    std::uint64_t fresh;   ///< voxels passed to apply (not yet updated in this scan)
+    std::uint64_t voxels;  ///< voxels of the walk (in the slab)
+  };
   // Walks the quantised segment q (voxel units) with apply(State&, key, is_end) → VoxelUpdate, once per voxel per
-  // scan. Returns the number of voxels passed to apply (not yet updated in this scan).
-  template <class Apply>
-  std::uint64_t walk(const detail::SegmentSetup& q, bool include_end, IntegrationStats& st, Apply&& apply) {
+  // scan, on the voxels of ps.slab (all of them for a backend that is no BlockBackend: it runs on one thread).
+  template <class W, class Apply>
+  WalkCount walk(W& w, const detail::SegmentSetup& q, bool include_end, PassState& ps, Apply&& apply) {
+    IntegrationStats& st = ps.st;
     if constexpr (BlockBackend<Backend>) {
       // Only voxels not yet updated in this scan reach the callback; the others are counted as voxels_same_scan.
       std::uint64_t fresh = 0;
-      const std::int64_t n = detail::walk_untouched(
-          backend_, q, include_end, [&](typename Backend::Block& blk, int i, const VoxelKey& block_key, bool is_end) {
+      const detail::KeySlab& sl = ps.slab;
+      const std::int64_t n = detail::walk_untouched_slab(
+          w, q, sl.axis, sl.lo, sl.hi, include_end,
+          [&](typename Backend::Block& blk, int i, const VoxelKey& block_key, bool is_end) {
             ++fresh;
-            update_fresh(blk, i, st, [&](State& s) {
+            update_fresh(w, blk, i, st, [&](State& s) {
               return apply(s, detail::voxel_key_in_block<Backend>(block_key, i), is_end);
             });
           });
       st.voxels_same_scan += static_cast<std::uint64_t>(n) - fresh;
-      return fresh;
+      return {fresh, static_cast<std::uint64_t>(n)};
     } else {
-      detail::SegmentWalker w(q);
-      std::uint64_t fresh = 0;
+      (void)w;
+      detail::SegmentWalker wk(q);
+      WalkCount c{0, 0};
       for (;;) {
-        const bool last = w.remaining() == 0;
-        if (last && !include_end) return fresh;
-        const VoxelKey k = w.key();
-        fresh += visit_generic(k, st, [&](State& s) { return apply(s, k, last); }) ? 1 : 0;
-        if (last) return fresh;
-        w.step();
+        const bool last = wk.remaining() == 0;
+        if (last && !include_end) return c;
+        const VoxelKey k = wk.key();
+        ++c.voxels;
+        c.fresh += visit_generic(k, st, [&](State& s) { return apply(s, k, last); }) ? 1 : 0;
+        if (last) return c;
+        wk.step();
       }
     }
   }
 
-  void band_pass(const BeamRecord& b, IntegrationStats& st) {
-    const double w = model_.band_half_width_m(b.beam);
-    const Vec3 a = b.end - w * b.dir, e = b.end + w * b.dir;
+  // The band of beam b on the voxels of ps.slab: the end voxel alone, or a walk (see prepare_beam).
+  template <class W>
+  void band_pass(const Scan& scan, std::size_t i, W& wr, PassState& ps) {
+    const BeamRecord& b = beams_[i];
     using Q = detail::SegmentSetup;
-    const VoxelKey end_key = Q::key_of_fixed(b.end_fixed);  // = grid().key_of(b.end), see SegmentSetup::to_fixed
-    if constexpr (BlockBackend<Backend>) {
-      // The band lies inside the end voxel (which lies inside voxel_bounds()): no clipping, no walk.
-      if (grid().in_voxel(a, end_key) && grid().in_voxel(e, end_key)) {
-        update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
-                      [&](State& s) { return model_.update_band(s, b.beam, 0.0, true); });
+    if constexpr (BlockBackend<Backend>) {  // (prepare_beam gives other backends only walks)
+      if (b.kind == BeamKind::band_end_voxel) {
+        const VoxelKey k = b.end_key();
+        if (ps.slab.owns(k))
+          update_native(wr, wr.block(Backend::block_id(k)), Backend::local_index(k), ps.st,
+                        [&](State& s) { return model_.update_band(s, b.beam, 0.0, true); });
         return;
       }
     }
-    // Clipped band. With both ends inside, clip_segment would return exactly [0, 1] (quotients of monotonically
-    // rounded differences), so the divisions are skipped, and point_in_box(a, e, 0) is a itself.
-    Vec3 from, to;
-    if (inside(a, voxel_bounds()) && inside(e, voxel_bounds())) {
-      from = a;
-      to = detail::point_in_box(a, e, 1.0, voxel_bounds());
-    } else {
-      double t0, t1;
-      if (!detail::clip_segment(a, e, voxel_bounds(), t0, t1)) return;  // cannot happen: b.end is inside
-      from = detail::point_in_box(a, e, t0, voxel_bounds());
-      to = detail::point_in_box(a, e, t1, voxel_bounds());
-    }
+    if (b.kind != BeamKind::band_walk) return;
+    const VoxelKey end_key = b.end_key();
+    const Vec3 o = scan.origin(i);
+    const double r = beam_range(o, scan.points[i]);
+    const Vec3 dir = beam_direction(o, scan.points[i], r);
     const auto update = [&](State& s, const VoxelKey& k, bool) {
       const bool is_end = k == end_key;
-      const double offset = is_end ? 0.0 : (grid().center(k) - b.origin).dot(b.dir) - b.range_m;
+      const double offset = is_end ? 0.0 : (grid().center(k) - o).dot(dir) - r;
       return model_.update_band(s, b.beam, offset, is_end);
     };
-    const double inv = grid().inverse_resolution();
-    const Q::Fixed fs = Q::to_fixed(Vec3(from * inv)), fe = Q::to_fixed(Vec3(to * inv));
     if constexpr (BlockBackend<Backend>) {
-      // The walk's keys are VoxelGrid::key_of of the same points (see SegmentSetup::to_fixed).
-      const VoxelKey ks = Q::key_of_fixed(fs), ke = Q::key_of_fixed(fe);
-      if (ks == ke) {  // the band lies in one voxel (the end voxel): no walk
-        update_native(backend_.block(Backend::block_id(end_key)), Backend::local_index(end_key), st,
-                      [&](State& s) { return update(s, end_key, true); });
-        return;
-      }
+      const VoxelKey ks = Q::key_of_fixed(BeamRecord::wide(b.band_from)), ke = Q::key_of_fixed(BeamRecord::wide(b.band_to));
+      if (outside_slab(ks, ke, ps.slab)) return;
       // Consecutive beams often span the same voxels. A band walk whose first and last voxel differ along one axis
-      // only (so that they fix every voxel in between) and that met no voxel not yet updated in this scan is
-      // remembered; the next band with the same first and last voxel only counts its Σ|Δkey| + 1 voxels. (The walk
-      // skips updated voxels at one bit test each: cheaper than testing the whole key box first.)
-      if (ks == full_band_[0] && ke == full_band_[1]) {
-        st.voxels_same_scan += static_cast<std::uint64_t>(std::abs(ke.x - ks.x) + std::abs(ke.y - ks.y) +
-                                                          std::abs(ke.z - ks.z)) + 1;
+      // only (so that they fix every voxel in between) and that met no voxel of the slab not yet updated in this
+      // scan is remembered; the next band with the same first and last voxel only counts the remembered walk's
+      // voxels. (The walk skips updated voxels at one bit test each: cheaper than testing the whole key box first.)
+      if (ks == ps.band_first && ke == ps.band_last) {
+        ps.st.voxels_same_scan += ps.band_voxels;
         return;
       }
       const int axes = (ks.x != ke.x) + (ks.y != ke.y) + (ks.z != ke.z);
-      if (walk(Q(fs, fe), true, st, update) == 0 && axes == 1) {
-        full_band_[0] = ks;
-        full_band_[1] = ke;
+      const WalkCount c = walk(wr, b.band_segment(), true, ps, update);
+      if (c.fresh == 0 && axes == 1) {
+        ps.band_first = ks;
+        ps.band_last = ke;
+        ps.band_voxels = c.voxels;
       }
     } else {
-      walk(Q(fs, fe), true, st, update);
+      walk(wr, b.band_segment(), true, ps, update);
     }
   }
 
-  void free_pass(const BeamRecord& b, IntegrationStats& st) {
-    double t0, t1;
-    if (!detail::clip_segment(b.origin, b.end, voxel_bounds(), t0, t1)) return;
-    const Vec3 from = detail::point_in_box(b.origin, b.end, t0, voxel_bounds());
-    const double inv = grid().inverse_resolution();
-    walk(detail::SegmentSetup(detail::SegmentSetup::to_fixed(Vec3(from * inv)), b.end_fixed), false, st,
-         [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
+  // The free segment of beam b, end voxel excluded, on the voxels of ps.slab.
+  template <class W>
+  void free_pass(const BeamRecord& b, W& wr, PassState& ps) {
+    if (!b.used() || !b.free_walk) return;
+    using Q = detail::SegmentSetup;
+    if (outside_slab(Q::key_of_fixed(BeamRecord::wide(b.free_from)), b.end_key(), ps.slab)) return;
+    walk(wr, b.free_segment(), false, ps, [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
+  }
+
+  // True if a walk from key a to key b has no voxel in the slab (both ends beyond the same face; walks are monotone).
+  [[nodiscard]] static bool outside_slab(const VoxelKey& a, const VoxelKey& b, const detail::KeySlab& sl) {
+    const std::int32_t x = a[sl.axis], y = b[sl.axis];
+    return (x < sl.lo && y < sl.lo) || (x >= sl.hi && y >= sl.hi);
   }
 
   [[nodiscard]] static bool inside(const Vec3& p, const Aabb& box) {
@@ -435,8 +598,8 @@ private:
   Model model_;
   UnknownAreaGrid area_;
   IntegrationStats totals_;
-  std::vector<BeamRecord> beams_;
-  VoxelKey full_band_[2];  ///< first and last key (one axis apart) of a band walk that met only voxels updated in this scan
+  std::vector<BeamRecord, DefaultInitAllocator<BeamRecord>> beams_;  ///< the scan being integrated, per point
+  unsigned last_threads_ = 1;
   std::unordered_set<std::uint64_t> touched_;
 };
 

@@ -12,8 +12,9 @@
 /// observed voxels (a beam has crossed or hit them) do not count: a view through them adds no evidence, and counting
 /// the observed-free ones let the planner fly view after view at the same gap (fandisk: median k99 30.5 → 17.5,
 /// 20 runs).
-/// Where the samples come from: CoverageResult::unseen; samples nearer their loop's edge than
-/// SelectionOptions::unseen_min_edge_distance_m are triangulation gaps and are dropped (UnseenSurfaceMap::build).
+/// Where the samples come from: CoverageResult::unseen; samples whose UnseenSample::edge_distance_m (distance to the
+/// midpoint of their fan triangle's loop edge) is below SelectionOptions::unseen_min_edge_distance_m are
+/// triangulation gaps and are dropped (UnseenSurfaceMap::build).
 
 #include <cmath>
 #include <cstddef>

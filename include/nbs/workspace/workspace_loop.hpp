@@ -243,7 +243,7 @@ WorkspaceResult run_workspace_modeling(Space& space, Source& source, const Works
     const Scan scan = source.acquire(LinearScanPath(Viewpoint(c.T_WS)));
     const auto t0 = std::chrono::steady_clock::now();
     const Scan down = downscale_area_scan(scan, setting.sensor, setting.update_downscale);
-    const IntegrationStats st = space.integrate(down);
+    const IntegrationStats st = integrate_scan(space, down, setting.threads);
     const double t_integrate = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     WorkspaceStep step;
     step.T_WS = c.T_WS;

@@ -4,10 +4,13 @@
 #include "nbs_catch.hpp"
 
 #include <map>
+#include <mutex>
+#include <thread>
 #include <tuple>
 #include <vector>
 
 #include "nbs/space/backend.hpp"
+#include "nbs/space/concepts.hpp"
 
 namespace nbs::test {
 
@@ -70,6 +73,39 @@ void check_backend_conformance(double resolution_m, MakeState make_state) {
   const VoxelKey outside{range.max.x + 1, 0, 0};
   REQUIRE_THROWS_AS(set_voxel_state(b, outside, make_state(1)), InvalidArgument);
   REQUIRE(observed_count(b) == keys.size());
+
+  // Capability: threads writing disjoint blocks at once, one ConcurrentWriter each (thread t: the blocks with block
+  // x key (100 >> kEdgeBits) + t, new blocks and the block of the key {100, −200, 30} written above among them).
+  if constexpr (ConcurrentBlockBackend<B>) {
+    constexpr int kThreads = 3, kEdge = B::kEdge;
+    const auto key_of = [&](int t, int i) {
+      return VoxelKey{((100 >> B::kEdgeBits) + t) * kEdge + i % kEdge, -200 + (i / kEdge) % 24, 30 + i / (kEdge * 24)};
+    };
+    constexpr int kPerThread = kEdge * 24 * 3;
+    std::mutex m;
+    std::vector<std::thread> pool;
+    for (int t = 0; t < kThreads; ++t)
+      pool.emplace_back([&, t] {
+        typename B::ConcurrentWriter w(b, m);
+        for (int i = 0; i < kPerThread; ++i) {
+          const VoxelKey k = key_of(t, i);
+          auto& blk = w.block(B::block_id(k));
+          blk.put(B::local_index(k), make_state(2000 + t * kPerThread + i));
+          w.note_observed(blk, B::local_index(k));
+        }
+        w.commit();
+      });
+    for (auto& th : pool) th.join();
+    std::size_t fresh = 0;
+    for (int t = 0; t < kThreads; ++t)
+      for (int i = 0; i < kPerThread; ++i) {
+        const VoxelKey k = key_of(t, i);
+        REQUIRE(voxel_state(b, k) == make_state(2000 + t * kPerThread + i));
+        fresh += expected.count({k.x, k.y, k.z}) == 0 ? 1 : 0;
+      }
+    REQUIRE(fresh == kThreads * kPerThread - 1);  // {100, −200, 30} was written before
+    REQUIRE(observed_count(b) == keys.size() + fresh);
+  }
 }
 
 }  // namespace nbs::test

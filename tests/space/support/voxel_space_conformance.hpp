@@ -140,6 +140,35 @@ void check_voxel_space_conformance() {
       }
     }
   }
+  // Capability: integrate(scan, threads) gives the space integrate(scan) gives, for any thread count (a scan of 4,900
+  // beams from 70 origins, large enough to be split).
+  if constexpr (ParallelIntegratingSpace<S>) {
+    Scan dense;
+    for (int j = 0; j < 70; ++j) {
+      Pose p = Pose::Identity();
+      p.translation() = Vec3(-0.2, 0.001 + 0.0014 * j, 0.05 + 0.3 * std::sin(j));
+      dense.profile_poses.push_back(p);
+      for (int k = 0; k < 70; ++k)
+        dense.add_point(Vec3(0.03 + 0.0009 * k, 0.0013 * k + 0.0005, 0.0014 * j + 0.0003), static_cast<std::uint32_t>(j));
+    }
+    S one(l, conformance_box());
+    const IntegrationStats a = one.integrate(dense);
+    for (unsigned threads : {2u, 3u}) {
+      S many(l, conformance_box());
+      const IntegrationStats b = many.integrate(dense, threads);
+      CHECK(a.integrated == b.integrated);
+      CHECK(a.voxel_updates == b.voxel_updates);
+      CHECK(a.voxels_same_scan == b.voxels_same_scan);
+      CHECK(a.voxels_similar_beam == b.voxels_similar_beam);
+      CHECK(observed_voxels(many) == observed_voxels(one));
+      std::size_t differ = 0;
+      one.for_each([&](const VoxelKey& k, const typename S::State& s) {
+        differ += many.observed(k) && many.model().probability(many.state(k)) == one.model().probability(s) ? 0 : 1;
+      });
+      CHECK(differ == 0);
+    }
+    CHECK(a.voxel_updates > 300);  // of the 1,000 voxels
+  }
 }
 
 }  // namespace nbs::test

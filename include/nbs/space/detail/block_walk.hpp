@@ -3,6 +3,7 @@
 /// \file
 /// Segment walks over a BlockBackend (space/concepts.hpp) that look a block up only when the walk enters a new block.
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
@@ -30,10 +31,11 @@ template <class BE>
 /// The loop of walk_untouched over any stepper whose step() returns the axis crossed (SegmentWalker or
 /// CommonDenominatorStepper): the voxel index is stepped inside a block; the block is looked up on leaving it. Fresh
 /// voxels (rare) are collected and handed to visit in batches, so that the loop itself makes no calls but the block
-/// lookups. Stepper and signs are taken by value so that the loop keeps them in registers.
+/// lookups. Stepper and signs are taken by value so that the loop keeps them in registers. After `steps` steps the
+/// voxel reached is visited if include_last, with is_end = last_is_end.
 template <class BE, class Stepper, class Visit>
-void walk_untouched_steps(BE& be, Stepper st, const VoxelKey start, const int sx, const int sy,
-                          const int sz, std::int64_t steps, const bool include_end, Visit& visit) {
+void walk_untouched_steps(BE& be, Stepper st, const VoxelKey start, const int sx, const int sy, const int sz,
+                          std::int64_t steps, const bool include_last, const bool last_is_end, Visit& visit) {
   using Block = typename BE::Block;
   constexpr int e = BE::kEdgeBits, m = BE::kEdge - 1;
   struct Fresh {  // no member initialisers: the batch is not zeroed on every call
@@ -83,7 +85,19 @@ void walk_untouched_steps(BE& be, Stepper st, const VoxelKey start, const int sx
     }
   }
   flush();
-  if (include_end && blk->touch(i)) visit(*blk, i, bk, true);
+  if (include_last && blk->touch(i)) visit(*blk, i, bk, last_is_end);
+}
+
+/// walk_untouched_steps over the walk of q (or of the rest of a walk, after_crossing) for `steps` steps.
+template <class BE, class Visit>
+void walk_untouched_run(BE& be, const SegmentSetup& q, std::int64_t steps, bool include_last, bool last_is_end,
+                        Visit& visit) {
+  if (const auto fast = CommonDenominatorStepper::make(q)) {
+    walk_untouched_steps(be, *fast, q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_last, last_is_end, visit);
+  } else {
+    walk_untouched_steps(be, SegmentWalker(q), q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_last,
+                         last_is_end, visit);
+  }
 }
 
 /// Writing walk of the quantised segment q (valid keys) that updates each voxel at most once per scan: for every voxel
@@ -91,15 +105,41 @@ void walk_untouched_steps(BE& be, Stepper st, const VoxelKey start, const int sx
 /// visit(Block&, index, block_key, is_end_voxel) (block_key: see voxel_key_in_block), allocating blocks as needed.
 /// Voxels already updated in this scan cost one DDA step and one bit test. Returns the number of voxels of the walk
 /// (visited or skipped).
-template <BlockBackend BE, class Visit>
+/// `be` is a BlockBackend or a writer with its block(id), note_observed and Block (e.g. a ConcurrentWriter).
+template <class BE, class Visit>
 std::int64_t walk_untouched(BE& be, const SegmentSetup& q, bool include_end, Visit&& visit) {
-  const std::int64_t steps = q.steps();
-  if (const auto fast = CommonDenominatorStepper::make(q)) {
-    walk_untouched_steps(be, *fast, q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_end, visit);
-  } else {
-    walk_untouched_steps(be, SegmentWalker(q), q.key, q.sign[0], q.sign[1], q.sign[2], steps, include_end, visit);
+  walk_untouched_run(be, q, q.steps(), include_end, true, visit);
+  return q.steps() + (include_end ? 1 : 0);
+}
+
+/// walk_untouched restricted to the voxels of q's walk whose key along `axis` lies in [lo, hi): since a walk is
+/// monotone along every axis they are one run of it, which is walked alone (started by after_crossing, stopped on its
+/// last voxel). Calls visit for the same voxels, in the same order, as walk_untouched would for them; looks up only
+/// blocks holding such voxels (with lo, hi multiples of kEdge: only blocks of the slab — what lets threads that own
+/// disjoint slabs of blocks walk concurrently). Returns the number of voxels of the walk in the slab (the end voxel
+/// counted only if include_end).
+template <class BE, class Visit>
+std::int64_t walk_untouched_slab(BE& be, const SegmentSetup& q, int axis, std::int32_t lo, std::int32_t hi,
+                                 bool include_end, Visit&& visit) {
+  const std::int32_t k0 = q.key[axis];
+  const int s = q.sign[axis];
+  if (s == 0) return k0 >= lo && k0 < hi ? walk_untouched(be, q, include_end, visit) : 0;
+  const std::int32_t k1 = k0 + s * q.remaining[axis];  // end key along axis
+  // a, z: the first and last key along axis of the run inside [lo, hi), in walk order.
+  const std::int32_t a = s > 0 ? std::max(k0, lo) : std::min(k0, hi - 1);
+  const std::int32_t z = s > 0 ? std::min(k1, hi - 1) : std::max(k1, lo);
+  if (s > 0 ? a > z : a < z) return 0;
+  const std::int32_t j_in = s > 0 ? a - k0 : k0 - a;  // crossings along axis before the run
+  const SegmentRest from = j_in > 0 ? after_crossing(q, axis, j_in) : SegmentRest{q, 0};
+  if (z == k1) {  // the run ends with the walk
+    const std::int64_t steps = q.steps() - from.done;
+    walk_untouched_run(be, from.rest, steps, include_end, true, visit);
+    return steps + (include_end ? 1 : 0);
   }
-  return steps + (include_end ? 1 : 0);
+  // The run ends before the crossing out of it: n voxels, the last one visited after n − 1 steps.
+  const std::int64_t n = after_crossing(q, axis, (s > 0 ? z - k0 : k0 - z) + 1).done - from.done;
+  walk_untouched_run(be, from.rest, n - 1, true, false, visit);
+  return n;
 }
 
 /// The loop of walk_blocks_const over a stepper (SegmentWalker or CommonDenominatorStepper), in the manner of

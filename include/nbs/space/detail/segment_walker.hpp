@@ -11,6 +11,7 @@
 /// of steps is exactly Σ_a |end_key_a − start_key_a|, so the loop always terminates.
 /// Overflow: |coordinate| < 2^20 voxels ⇒ N_a < 2^32, A_b < 2^31 ⇒ products < 2^63.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -82,6 +83,42 @@ struct SegmentSetup {
   std::int64_t abs[3] = {0, 0, 0};
   std::int64_t next[3] = {0, 0, 0};
 };
+
+/// The rest of a walk after one of its boundary crossings: `rest` walks exactly the voxels q's walk visits from that
+/// crossing on, in order (same end point, same A_a; key, N_a and remaining_a advanced), and `done` is the number of
+/// steps q's walk takes up to and including the crossing.
+struct SegmentRest {
+  SegmentSetup rest;
+  std::int64_t done;
+};
+
+/// The rest of q's walk after its j-th crossing along `axis` (1 ≤ j ≤ q.remaining[axis]). Exact: the crossing counts
+/// of the other axes follow from the crossing times t_a,k = (N_a + (k − 1)·2^F) / A_a compared by cross-multiplication
+/// (128-bit), with the tie rule of SegmentWalker::step (at equal times the later axis steps first). Since the DDA
+/// compares crossing times only, a walker built from `rest` takes the steps q's walker takes after that crossing.
+[[nodiscard]] inline SegmentRest after_crossing(const SegmentSetup& q, int axis, std::int32_t j) {
+  using Wide = __int128;
+  SegmentRest r{q, 0};
+  const Wide t_num = Wide{q.next[axis]} + Wide{j - 1} * SegmentSetup::kOne;  // crossing time · A_axis
+  const Wide unit = Wide{SegmentSetup::kOne} * q.abs[axis];
+  for (int b = 0; b < 3; ++b) {
+    std::int64_t c = j;
+    if (b != axis) {
+      c = 0;
+      if (q.remaining[b] > 0) {
+        // Crossing k of b comes first iff (N_b + (k − 1)·2^F)·A_axis < t_num·A_b, or = and b > axis.
+        const Wide d = t_num * q.abs[b] - Wide{q.next[b]} * q.abs[axis];
+        const Wide n = b > axis ? (d < 0 ? 0 : d / unit + 1) : (d <= 0 ? 0 : (d - 1) / unit + 1);
+        c = static_cast<std::int64_t>(std::min<Wide>(n, q.remaining[b]));
+      }
+    }
+    r.rest.key[b] += static_cast<std::int32_t>(q.sign[b] * c);
+    r.rest.remaining[b] -= static_cast<std::int32_t>(c);
+    r.rest.next[b] += c * SegmentSetup::kOne;
+    r.done += c;
+  }
+  return r;
+}
 
 class SegmentWalker {
 public:
