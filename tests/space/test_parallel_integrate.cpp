@@ -18,6 +18,7 @@
 #include "nbs/space/log_odds_model.hpp"
 #include "nbs/space/probabilistic_voxel_space.hpp"
 #include "nbs_random.hpp"
+#include "nbs_temp_dir.hpp"
 #include "support/random_scan.hpp"
 #include "support/synthetic_scan.hpp"
 
@@ -120,11 +121,19 @@ TEST_CASE("walk_untouched_slab visits the walk's voxels in the slab, in order, a
   using Backend = nbs::HashedBlockBackend<nbs::ThesisState>;
   std::mt19937_64 rng(32);
   std::uniform_real_distribution<double> u(-20.0, 20.0);
-  std::uniform_int_distribution<int> cut(-24, 24), axis_of(0, 2), coin(0, 1);
+  std::uniform_int_distribution<int> cut(-24, 24), axis_of(0, 2), coin(0, 1), kind_of(0, 3);
+  std::uniform_int_distribution<int> lattice(-20 * 1024, 20 * 1024), corner(-20, 20);
+  // End points: real-valued, on the 1/1024 lattice, on voxel corners, or real-valued with Δx = Δy = 0.
+  const auto point = [&](int kind) {
+    if (kind == 1) return nbs_test::random_vec3([&] { return lattice(rng) / 1024.0; });
+    if (kind == 2) return nbs_test::random_vec3([&] { return double(corner(rng)); });
+    return nbs_test::random_vec3(u, rng);
+  };
   int runs_split = 0, empty = 0;
-  for (int i = 0; i < 1500; ++i) {
-    const Vec3 a = nbs_test::random_vec3(u, rng);
-    const Vec3 b = i % 3 == 0 ? Vec3(a.x(), a.y(), u(rng)) : nbs_test::random_vec3(u, rng);  // some with Δx = Δy = 0
+  for (int i = 0; i < 3000; ++i) {
+    const int kind = kind_of(rng);
+    const Vec3 a = point(kind);
+    const Vec3 b = kind == 3 ? Vec3(a.x(), a.y(), u(rng)) : point(kind);
     const SegmentSetup q(a, b);
     const int axis = axis_of(rng);
     const bool aligned = coin(rng) == 1, include_end = coin(rng) == 1;
@@ -160,8 +169,8 @@ TEST_CASE("walk_untouched_slab visits the walk's voxels in the slab, in order, a
     runs_split += !want.empty() && want.size() + 1 < f.keys.size() ? 1 : 0;
     empty += want.empty() ? 1 : 0;
   }
-  REQUIRE(runs_split > 200);  // many walks cross a slab face
-  REQUIRE(empty > 100);
+  REQUIRE(runs_split > 400);  // many walks cross a slab face
+  REQUIRE(empty > 200);
 }
 
 TEST_CASE("balance_slabs: block-aligned slabs that partition the keys and balance the walks' voxels",
@@ -204,20 +213,34 @@ TEST_CASE("balance_slabs: block-aligned slabs that partition the keys and balanc
 }
 
 namespace {
-// Integrates the same scans with 1 thread and with `threads`: every statistic, every voxel state and the observed
-// counts agree, and the parallel space did split the scans.
+template <class Space>
+std::vector<std::pair<VoxelKey, typename Space::State>> voxels_in_order(const Space& s) {
+  std::vector<std::pair<VoxelKey, typename Space::State>> v;
+  s.for_each([&](const VoxelKey& k, const typename Space::State& st) { v.push_back({k, st}); });
+  return v;
+}
+
+// Integrates the same scans with 1 thread and with `threads` (into spaces flushing with `flush`, if set): every
+// statistic, every voxel state, the for_each order and the observed and block counts agree, and the parallel space
+// did split the scans.
 template <class Model, class MakeScan>
 void check_parallel_equals_serial(double resolution_m, const Model& model, unsigned threads, int scans,
-                                  MakeScan&& make_scan) {
+                                  MakeScan&& make_scan, const nbs::BlockFlushSetting* flush = nullptr) {
   using State = typename Model::State;
   using Space = nbs::ProbabilisticVoxelSpace<nbs::HashedBlockBackend<State>, Model>;
   const nbs::Aabb box{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)};
   Space serial(resolution_m, box, model), parallel(resolution_m, box, model);
+  if (flush) {
+    serial.mutable_backend().set_flush_policy(*flush);
+    parallel.mutable_backend().set_flush_policy(*flush);
+  }
   for (int k = 0; k < scans; ++k) {
     const nbs::Scan scan = make_scan(k);
     const auto a = serial.integrate(scan), b = parallel.integrate(scan, threads);
-    INFO("resolution " << resolution_m << ", " << threads << " threads, scan " << k);
-    REQUIRE(parallel.last_integrate_threads() == threads);
+    INFO("resolution " << resolution_m << ", " << threads << " threads, scan " << k << ", " << scan.size() << " points");
+    // One thread per slab; fewer slabs where the walks span fewer blocks (a 0.2 m box at 4 mm: 7 blocks an axis).
+    REQUIRE(parallel.last_integrate_threads() <= std::min<std::size_t>(threads, scan.size() / Space::kBeamsPerThread));
+    REQUIRE(parallel.last_integrate_threads() >= std::min(threads, 3u));
     REQUIRE(serial.last_integrate_threads() == 1);
     REQUIRE(a.integrated == b.integrated);
     REQUIRE(a.rejected_outside_bounds == b.rejected_outside_bounds);
@@ -228,9 +251,15 @@ void check_parallel_equals_serial(double resolution_m, const Model& model, unsig
   }
   REQUIRE(serial.backend().size() == parallel.backend().size());
   REQUIRE(serial.backend().block_count() == parallel.backend().block_count());
+  REQUIRE(serial.backend().flushed_block_count() == parallel.backend().flushed_block_count());
+  REQUIRE(serial.backend().flush_stats().blocks_reloaded == parallel.backend().flush_stats().blocks_reloaded);
+  if (flush) REQUIRE(serial.backend().flush_stats().blocks_reloaded > 0);
+  const auto one = voxels_in_order(serial), many = voxels_in_order(parallel);
+  REQUIRE(one.size() == many.size());
   std::size_t mismatches = 0;
-  serial.for_each([&](const VoxelKey& k, const State& s) { mismatches += parallel.state(k) == s ? 0 : 1; });
-  REQUIRE(mismatches == 0);
+  for (std::size_t i = 0; i < one.size(); ++i)
+    mismatches += one[i].first == many[i].first && one[i].second == many[i].second ? 0 : 1;
+  REQUIRE(mismatches == 0);  // same states, visited in the same order
 }
 }  // namespace
 
@@ -238,21 +267,34 @@ TEST_CASE("integrate(scan, threads) gives the states and statistics of integrate
   nbs::ThesisModel::Setting noisy;
   noisy.sigma_m = [](double d) { return 0.002 * d * d + 0.0002; };
   const nbs::ThesisModel thesis(noisy);
-  for (const unsigned threads : {2u, 3u}) {
+  for (const unsigned threads : {2u, 3u, 8u}) {
     std::mt19937_64 rng(34 + threads);
-    const auto random = [&](int) { return nbs::test::random_scan(rng, 30, 100); };  // 3000 beams from 30 origins
+    const int profiles = threads == 8 ? 90 : 40;  // 100 beams each, one thread per 1,024
+    const auto random = [&](int) { return nbs::test::random_scan(rng, profiles, 100); };
     check_parallel_equals_serial(0.004, thesis, threads, 3, random);
     check_parallel_equals_serial(0.002, nbs::LogOddsModel{}, threads, 2, random);
+    if (threads == 8) continue;
     // Laser-stripe scans of a sphere: neighbouring beams from neighbouring origins re-walk the same voxels.
-    const nbs::test::SphereLspSetup setup{.profiles = 40, .rays_per_profile = 120, .noise_sigma_m = 0.0005};
+    const nbs::test::SphereLspSetup setup{.profiles = 60, .rays_per_profile = 120, .noise_sigma_m = 0.0005};
     const auto lsp = [&](int k) {
       return nbs::test::sphere_lsp_scan(setup, nbs::test::ring_position(setup, k, 4, 0.3), 50 + k);
     };
     check_parallel_equals_serial(0.003, thesis, threads, 4, lsp);
   }
-  // A scan below kParallelMinBeams runs on the calling thread.
+  // A scan of fewer than 2 · kBeamsPerThread points runs on the calling thread.
   nbs::ProbabilisticVoxelSpace<> space(0.004, nbs::Aabb{Vec3(-0.1, -0.1, 0.0), Vec3(0.1, 0.1, 0.2)});
   std::mt19937_64 rng(40);
-  (void)space.integrate(nbs::test::random_scan(rng, 4, 100), 4);
+  (void)space.integrate(nbs::test::random_scan(rng, 20, 100), 4);
   REQUIRE(space.last_integrate_threads() == 1);
+}
+
+TEST_CASE("integrate(scan, threads) with flushing: blocks reloaded and flushed as on one thread",
+          "[space][pvs][parallel][flush]") {
+  const nbs_test::TempDir dir("nbs_test_parallel_flush_");
+  nbs::BlockFlushSetting flush;
+  flush.directory = dir.path;
+  flush.idle_scans = 1;  // every block not written by the last scan goes to disk
+  std::mt19937_64 rng(41);
+  const auto random = [&](int) { return nbs::test::random_scan(rng, 40, 100); };
+  check_parallel_equals_serial(0.004, nbs::ThesisModel{}, 3, 5, random, &flush);
 }

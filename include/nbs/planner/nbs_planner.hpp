@@ -7,8 +7,9 @@
 ///
 /// Use: `NbsPlanner<> p(params, presets::dlr_lsp(), unknown_area);` then, per scan, `p.integrate(scan)` and
 /// `p.next_best_scan()` until `p.done()`. Frames: world (types.hpp), metres, seconds.
-/// Thread-safety: not thread-safe; only candidate evaluation runs on `setting().threads` std::threads, and its
-/// result is identical for any thread count (so is every plan: the rest is sequential and deterministic).
+/// Thread-safety: not thread-safe; candidate evaluation and the voxel space's integrate (a ParallelIntegratingSpace)
+/// run on `setting().threads` std::threads, with results identical for any thread count (so is every plan: the rest
+/// is sequential and deterministic).
 
 #include <algorithm>
 #include <chrono>

@@ -129,7 +129,7 @@ struct PlanResult {
 
 /// Run-time knobs of NbsPlanner that are not thesis parameters (those are in Parameters).
 struct PlannerSetting {
-  unsigned threads = 1;            ///< candidate evaluation threads (≥ 1); results identical for any count
+  unsigned threads = 1;            ///< candidate evaluation and scan integration threads (≥ 1); results identical for any count
   RaySampling sampling{4, 4};      ///< beam sub-sampling of the utility evaluation (every 4th profile / ray)
   ReplanSetting replan{};          ///< Alg. 3; `incidence_cutoff_rad` is overwritten by Parameters
   bool replan_candidates = true;   ///< run Alg. 3 on new candidates before they enter the set S

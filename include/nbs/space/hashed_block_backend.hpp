@@ -129,10 +129,16 @@ public:
     b.put(i, s);
     note_observed(b, i);
   }
-  /// f(key, state) for every observed voxel; flushed blocks are read from disk (not reloaded).
+  /// f(key, state) for every observed voxel, resident blocks in block-id order, then flushed blocks (read from disk,
+  /// not reloaded) in block-id order: the order depends on the states only, not on the order the blocks were
+  /// allocated in (which a parallel integrate leaves to the threads).
   template <class F>
   void for_each(F&& f) const {
-    for (const auto& [id, b] : blocks_) for_each_in(id, *b, f);
+    std::vector<std::pair<std::uint64_t, const Block*>> resident;
+    resident.reserve(blocks_.size());
+    for (const auto& [id, b] : blocks_) resident.emplace_back(id, b.get());
+    std::sort(resident.begin(), resident.end());
+    for (const auto& [id, b] : resident) for_each_in(id, *b, f);
     if (flushed_.empty()) return;
     std::vector<std::uint64_t> ids(flushed_.begin(), flushed_.end());
     std::sort(ids.begin(), ids.end());

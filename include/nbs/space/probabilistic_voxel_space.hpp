@@ -37,7 +37,8 @@
 
 namespace nbs {
 
-/// The probabilistic voxel space; models VoxelSpace and BatchRayCastingSpace (space/concepts.hpp). `Backend` stores
+/// The probabilistic voxel space; models VoxelSpace, BatchRayCastingSpace and ParallelIntegratingSpace
+/// (space/concepts.hpp). `Backend` stores
 /// the states (native hashed blocks by default, or any VoxelBackend such as `octomap::OcTree` via nbs/octomap),
 /// `Model` turns beams into state updates. A backend that is also a BlockBackend is updated and ray-cast block by
 /// block; any other backend voxel by voxel (same voxels, states and statistics).
@@ -68,17 +69,18 @@ public:
   IntegrationStats integrate(const Scan& scan) { return integrate(scan, 1); }
 
   /// integrate(scan) on `threads` std::threads (0 = hardware concurrency): the same voxel states and statistics for
-  /// any thread count (ParallelIntegratingSpace). The beams are prepared (range, model beam, clipped segments) in
-  /// blocks of points, one per thread. With a ConcurrentBlockBackend the keys are then cut into one slab of whole
-  /// blocks per thread along one axis (the axis and cuts that balance the free walks' voxel counts best); each thread
-  /// runs both passes over every beam, in order, on the voxels of its slab only (detail::walk_untouched_slab), so each
-  /// voxel meets the beams in the order one thread would; other backends run the passes on the calling thread. Scans
-  /// of fewer than kParallelMinBeams points run on the calling thread. With threads > 1 the model's const members are
-  /// called concurrently.
+  /// any thread count (ParallelIntegratingSpace). At most one thread per kBeamsPerThread points is used (a scan of
+  /// fewer than 2 · kBeamsPerThread points runs on the calling thread). The beams are prepared (range, model beam,
+  /// clipped segments) in blocks of points, one per thread. With a ConcurrentBlockBackend the keys are then cut into
+  /// one slab of whole blocks per thread along one axis (detail::balance_slabs: greedy cuts over a sample of at most
+  /// kSplitSample beams, a free walk weighing its voxels and a band kBandWeight voxels; the axis whose heaviest slab is
+  /// lightest); each thread runs both passes over every beam, in order, on the voxels of its slab only
+  /// (detail::walk_untouched_slab), so each voxel meets the beams in the order one thread would; other backends run
+  /// the passes on the calling thread. With threads > 1 the model's const members are called concurrently.
   IntegrationStats integrate(const Scan& scan, unsigned threads) {
     scan.validate();
-    threads = detail::resolve_threads(threads);
-    if (scan.size() < kParallelMinBeams) threads = 1;
+    threads = static_cast<unsigned>(
+        std::clamp<std::size_t>(scan.size() / kBeamsPerThread, 1, detail::resolve_threads(threads)));
     // The beams, in scan order (rejected points keep their slot, marked), prepared on the threads in blocks.
     beams_.resize(scan.size());  // default-initialised (no stores): the threads write them first
     detail::parallel_for(beams_.size(), threads, [&](std::size_t lo, std::size_t hi) {
@@ -99,8 +101,8 @@ public:
     totals_ += st;
     return st;
   }
-  /// Scans with fewer beams are integrated on one thread by integrate(scan, threads).
-  static constexpr std::size_t kParallelMinBeams = 2048;
+  /// integrate(scan, threads) uses at most one thread per kBeamsPerThread points.
+  static constexpr std::size_t kBeamsPerThread = 1024;
   /// The threads the last integrate ran its passes on (one per slab; 1 before the first scan).
   [[nodiscard]] unsigned last_integrate_threads() const { return last_threads_; }
 
@@ -315,7 +317,7 @@ private:
   }
 
   /// One thread's passes: its slab, its statistics, and the band walk it remembers (see band_pass).
-  struct PassState {
+  struct alignas(64) PassState {  // (own cache lines: the threads count into theirs per voxel)
     static constexpr std::int32_t kNone = VoxelKey::kMinIndex - 1;  // no walk has this key
     detail::KeySlab slab;  ///< the voxels this thread updates (everything by default)
     IntegrationStats st;
@@ -398,7 +400,7 @@ private:
           if (!b.used()) return std::nullopt;
           if (k % 2 == 1) return detail::WeightedWalk{b.end_key(), b.end_key(), kBandWeight};
           if (!b.free_walk) return std::nullopt;
-          const VoxelKey a = b.free_segment().key, e = b.end_key();
+          const VoxelKey a = detail::SegmentSetup::key_of_fixed(BeamRecord::wide(b.free_from)), e = b.end_key();
           return detail::WeightedWalk{a, e, 1.0 + std::abs(e.x - a.x) + std::abs(e.y - a.y) + std::abs(e.z - a.z)};
         };
         const std::vector<detail::KeySlab> slabs =
@@ -523,6 +525,8 @@ private:
       }
     }
     if (b.kind != BeamKind::band_walk) return;
+    const VoxelKey ks = Q::key_of_fixed(BeamRecord::wide(b.band_from)), ke = Q::key_of_fixed(BeamRecord::wide(b.band_to));
+    if (outside_slab(ks, ke, ps.slab)) return;
     const VoxelKey end_key = b.end_key();
     const Vec3 o = scan.origin(i);
     const double r = beam_range(o, scan.points[i]);
@@ -533,8 +537,6 @@ private:
       return model_.update_band(s, b.beam, offset, is_end);
     };
     if constexpr (BlockBackend<Backend>) {
-      const VoxelKey ks = Q::key_of_fixed(BeamRecord::wide(b.band_from)), ke = Q::key_of_fixed(BeamRecord::wide(b.band_to));
-      if (outside_slab(ks, ke, ps.slab)) return;
       // Consecutive beams often span the same voxels. A band walk whose first and last voxel differ along one axis
       // only (so that they fix every voxel in between) and that met no voxel of the slab not yet updated in this
       // scan is remembered; the next band with the same first and last voxel only counts the remembered walk's

@@ -141,7 +141,7 @@ void check_voxel_space_conformance() {
     }
   }
   // Capability: integrate(scan, threads) gives the space integrate(scan) gives, for any thread count (a scan of 4,900
-  // beams from 70 origins, large enough to be split).
+  // beams from 70 origins: four threads).
   if constexpr (ParallelIntegratingSpace<S>) {
     Scan dense;
     for (int j = 0; j < 70; ++j) {

@@ -105,7 +105,8 @@ void walk_untouched_run(BE& be, const SegmentSetup& q, std::int64_t steps, bool 
 /// visit(Block&, index, block_key, is_end_voxel) (block_key: see voxel_key_in_block), allocating blocks as needed.
 /// Voxels already updated in this scan cost one DDA step and one bit test. Returns the number of voxels of the walk
 /// (visited or skipped).
-/// `be` is a BlockBackend or a writer with its block(id), note_observed and Block (e.g. a ConcurrentWriter).
+/// `be` is a BlockBackend or a writer with the same `block(id)`, `local_index`, `kEdge`, `kEdgeBits` and `Block`
+/// (a ConcurrentWriter).
 template <class BE, class Visit>
 std::int64_t walk_untouched(BE& be, const SegmentSetup& q, bool include_end, Visit&& visit) {
   walk_untouched_run(be, q, q.steps(), include_end, true, visit);

@@ -28,6 +28,10 @@ public:
   [[nodiscard]] static int local_index(const VoxelKey& k) { return Backend::local_index(k); }
 
   ConcurrentBlockWriter(Backend& be, std::mutex& m) : be_(&be), mutex_(&m) {}
+  ConcurrentBlockWriter(const ConcurrentBlockWriter&) = delete;
+  ConcurrentBlockWriter& operator=(const ConcurrentBlockWriter&) = delete;
+  /// Commits what is left (also when the thread's walk threw), so that size() counts every observed voxel.
+  ~ConcurrentBlockWriter() { commit(); }
   /// As Backend::block(id), for a block only this thread writes.
   [[nodiscard]] Block& block(std::uint64_t id) {
     Slot& s = slots_[(id * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
@@ -38,8 +42,9 @@ public:
   }
   /// As Backend::note_observed; counted here until commit().
   void note_observed(Block& b, int i) { observed_ += b.observe(i) ? 1u : 0u; }
-  /// Adds this thread's newly observed voxels to the backend's count (under the mutex).
+  /// Adds this thread's newly observed voxels to the backend's count (under the mutex); idempotent.
   void commit() {
+    if (observed_ == 0) return;
     const std::lock_guard<std::mutex> lock(*mutex_);
     be_->add_observed(observed_);
     observed_ = 0;

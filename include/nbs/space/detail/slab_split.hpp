@@ -34,7 +34,8 @@ struct WeightedWalk {
 /// over the walks keys_of(k) → std::optional<WeightedWalk> (nullopt: no walk), k = 0 … count − 1. Per axis the load of
 /// a block is the weight its walks' keys along that axis carry; the cuts fall where the running load first reaches
 /// t/slabs of the total (t = 1 … slabs − 1); the axis whose heaviest slab is lightest wins (ties: the lower axis). One
-/// slab if there is no walk or slabs ≤ 1.
+/// slab if there is no walk, slabs ≤ 1, or the walks lie in one block along every axis; fewer than `slabs` where
+/// the walks span fewer blocks.
 template <class KeysOf>
 [[nodiscard]] std::vector<KeySlab> balance_slabs(std::size_t count, KeysOf&& keys_of, unsigned slabs, int edge_bits) {
   std::vector<KeySlab> best(1);
