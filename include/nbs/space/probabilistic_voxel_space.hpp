@@ -226,11 +226,12 @@ private:
     [[nodiscard]] static Fixed32 narrow(const detail::SegmentSetup::Fixed& f) {
       return {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])};
     }
-    [[nodiscard]] VoxelKey end_key() const { return {end[0] >> kFixedBits, end[1] >> kFixedBits, end[2] >> kFixedBits}; }
+    /// Key of the voxel containing fixed-point point f (SegmentSetup::key_of_fixed).
+    [[nodiscard]] static VoxelKey key(const Fixed32& f) { return detail::SegmentSetup::key_of_fixed(wide(f)); }
+    [[nodiscard]] VoxelKey end_key() const { return key(end); }
     [[nodiscard]] detail::SegmentSetup free_segment() const { return {wide(free_from), wide(end)}; }
     [[nodiscard]] detail::SegmentSetup band_segment() const { return {wide(band_from), wide(band_to)}; }
   };
-  static constexpr int kFixedBits = detail::kDdaFractionBits;
   [[nodiscard]] static double beam_range(const Vec3& o, const Vec3& p) { return (p - o).norm(); }
   [[nodiscard]] static Vec3 beam_direction(const Vec3& o, const Vec3& p, double range_m) { return (p - o) / range_m; }
   [[nodiscard]] std::span<const BeamRecord> beams() const { return beams_; }
@@ -311,7 +312,7 @@ private:
     if constexpr (BlockBackend<Backend>) {
       // The walk's keys are VoxelGrid::key_of of the same points (see SegmentSetup::to_fixed): a band whose ends lie in
       // one voxel (the end voxel) needs no walk.
-      if (Q::key_of_fixed(BeamRecord::wide(rec.band_from)) == Q::key_of_fixed(BeamRecord::wide(rec.band_to)))
+      if (BeamRecord::key(rec.band_from) == BeamRecord::key(rec.band_to))
         rec.kind = BeamKind::band_end_voxel;
     }
   }
@@ -400,7 +401,7 @@ private:
           if (!b.used()) return std::nullopt;
           if (k % 2 == 1) return detail::WeightedWalk{b.end_key(), b.end_key(), kBandWeight};
           if (!b.free_walk) return std::nullopt;
-          const VoxelKey a = detail::SegmentSetup::key_of_fixed(BeamRecord::wide(b.free_from)), e = b.end_key();
+          const VoxelKey a = BeamRecord::key(b.free_from), e = b.end_key();
           return detail::WeightedWalk{a, e, 1.0 + std::abs(e.x - a.x) + std::abs(e.y - a.y) + std::abs(e.z - a.z)};
         };
         const std::vector<detail::KeySlab> slabs =
@@ -514,7 +515,6 @@ private:
   template <class W>
   void band_pass(const Scan& scan, std::size_t i, W& wr, PassState& ps) {
     const BeamRecord& b = beams_[i];
-    using Q = detail::SegmentSetup;
     if constexpr (BlockBackend<Backend>) {  // (prepare_beam gives other backends only walks)
       if (b.kind == BeamKind::band_end_voxel) {
         const VoxelKey k = b.end_key();
@@ -525,7 +525,7 @@ private:
       }
     }
     if (b.kind != BeamKind::band_walk) return;
-    const VoxelKey ks = Q::key_of_fixed(BeamRecord::wide(b.band_from)), ke = Q::key_of_fixed(BeamRecord::wide(b.band_to));
+    const VoxelKey ks = BeamRecord::key(b.band_from), ke = BeamRecord::key(b.band_to);
     if (outside_slab(ks, ke, ps.slab)) return;
     const VoxelKey end_key = b.end_key();
     const Vec3 o = scan.origin(i);
@@ -561,8 +561,7 @@ private:
   template <class W>
   void free_pass(const BeamRecord& b, W& wr, PassState& ps) {
     if (!b.used() || !b.free_walk) return;
-    using Q = detail::SegmentSetup;
-    if (outside_slab(Q::key_of_fixed(BeamRecord::wide(b.free_from)), b.end_key(), ps.slab)) return;
+    if (outside_slab(BeamRecord::key(b.free_from), b.end_key(), ps.slab)) return;
     walk(wr, b.free_segment(), false, ps, [&](State& s, const VoxelKey&, bool) { return model_.update_free(s, b.beam); });
   }
 

@@ -5,7 +5,6 @@
 /// work split of ProbabilisticVoxelSpace::integrate(scan, threads).
 
 #include <algorithm>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -21,7 +20,6 @@ struct KeySlab {
   std::int32_t lo = VoxelKey::kMinIndex;
   std::int32_t hi = VoxelKey::kMaxIndex + 1;
   [[nodiscard]] bool owns(const VoxelKey& k) const { return k[axis] >= lo && k[axis] < hi; }
-  friend bool operator==(const KeySlab&, const KeySlab&) = default;
 };
 
 /// A walk from `first` to `last` (voxel keys) whose cost `weight` is spread evenly over its keys along each axis.
