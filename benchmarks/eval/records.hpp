@@ -34,6 +34,13 @@ struct ScanRow {
   double t_nbs_s = 0;      ///< time of the planning step that chose this scan (0 for the first scan)
   std::size_t candidates = 0;  ///< candidates scored in that planning step (0 for the first scan)
   std::string mode;        ///< "init" (first scan), "BS" or "HR": the mode the scan was planned in
+  /// What ĉ_m is made of after this scan (Eq. 4.35: ĉ_m = A_filled / (A_filled + A_empty)), for replaying other
+  /// stop rules: A_filled (m²), and A_empty split by the fan samples' distance d from their loop's edge
+  /// (UnseenSample::edge_distance_m): all, d ≥ 5 mm, d ≥ 10 mm. Absent in files written before 2026-12-07 (read as 0).
+  double a_filled_m2 = 0;
+  double a_unseen_m2 = 0;
+  double a_unseen_5mm_m2 = 0;
+  double a_unseen_10mm_m2 = 0;
   // With --pose-error / --registration only (RunRecord::pose):
   double pose_t_mm = 0;    ///< residual pose error after registration: |R·c − c| at the true points' centroid, mm
   double pose_r_deg = 0;   ///< its rotation angle, degrees (residual_pose_error, sim/pose_error.hpp)
@@ -94,6 +101,10 @@ struct RunRecord {
   col("t_nbs_s", [](const ScanRow& x) { return x.t_nbs_s; });
   col("candidates", [](const ScanRow& x) { return x.candidates; });
   col("mode", [](const ScanRow& x) { return x.mode; });
+  col("a_filled_m2", [](const ScanRow& x) { return x.a_filled_m2; });
+  col("a_unseen_m2", [](const ScanRow& x) { return x.a_unseen_m2; });
+  col("a_unseen_5mm_m2", [](const ScanRow& x) { return x.a_unseen_5mm_m2; });
+  col("a_unseen_10mm_m2", [](const ScanRow& x) { return x.a_unseen_10mm_m2; });
   if (r.pose) {
     col("pose_t_mm", [](const ScanRow& x) { return x.pose_t_mm; });
     col("pose_r_deg", [](const ScanRow& x) { return x.pose_r_deg; });
@@ -149,6 +160,18 @@ struct RunRecord {
     x.candidates = s["candidates"][i].get<std::size_t>();
     x.mode = s["mode"][i].get<std::string>();
   }
+  // The ĉ_m parts (absent in files written before they existed: left 0).
+  for (const char* key : {"a_filled_m2", "a_unseen_m2", "a_unseen_5mm_m2", "a_unseen_10mm_m2"}) {
+    if (!s.contains(key)) continue;
+    if (s.at(key).size() != n) throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
+  }
+  if (s.contains("a_filled_m2"))
+    for (std::size_t i = 0; i < n; ++i) {
+      r.scans[i].a_filled_m2 = s["a_filled_m2"][i].get<double>();
+      r.scans[i].a_unseen_m2 = s.at("a_unseen_m2")[i].get<double>();
+      r.scans[i].a_unseen_5mm_m2 = s.at("a_unseen_5mm_m2")[i].get<double>();
+      r.scans[i].a_unseen_10mm_m2 = s.at("a_unseen_10mm_m2")[i].get<double>();
+    }
   r.robot = s.contains("unreachable_candidates");
   if (r.robot) {
     if (s.at("unreachable_candidates").size() != n)

@@ -140,6 +140,16 @@ struct RunContext {
     row.t_nbs_s = r.planning.t_nbs_s;
     row.candidates = r.planning.evaluated;
     row.mode = r.scan == 1 ? "init" : std::string(to_string(r.planning.mode));
+    row.a_filled_m2 = filled_area(mesh);
+    std::visit(
+        [&](const auto& p) {
+          for (const UnseenSample& u : p.utility_context().unseen_surface) {
+            row.a_unseen_m2 += u.area_m2;
+            if (u.edge_distance_m >= 0.005) row.a_unseen_5mm_m2 += u.area_m2;
+            if (u.edge_distance_m >= 0.010) row.a_unseen_10mm_m2 += u.area_m2;
+          }
+        },
+        planner.variant());
     row.unreachable_candidates = r.planning.unreachable;
     if (r.transfer) {
       row.transfer_joint_rad = r.transfer->joint_length_rad;

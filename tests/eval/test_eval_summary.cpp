@@ -230,6 +230,25 @@ TEST_CASE("run record JSON round trip", "[eval]") {
   Json broken = j;
   broken["scans"]["c_b"].erase(0);
   CHECK_THROWS(nbs::eval::record_from_json(broken));
+  // The parts of ĉ_m (A_filled, A_empty by edge distance) round-trip; a file without them reads them as 0; a wrong
+  // length is refused.
+  nbs::eval::RunRecord parts = r;
+  parts.scans[1].a_filled_m2 = 0.03;
+  parts.scans[1].a_unseen_m2 = 0.02;
+  parts.scans[1].a_unseen_5mm_m2 = 0.004;
+  parts.scans[1].a_unseen_10mm_m2 = 0.001;
+  const nbs::eval::RunRecord parts_back = nbs::eval::record_from_json(Json::parse(nbs::eval::to_json(parts).dump()));
+  CHECK(parts_back.scans[1].a_filled_m2 == 0.03);
+  CHECK(parts_back.scans[1].a_unseen_m2 == 0.02);
+  CHECK(parts_back.scans[1].a_unseen_5mm_m2 == 0.004);
+  CHECK(parts_back.scans[1].a_unseen_10mm_m2 == 0.001);
+  Json old_file = nbs::eval::to_json(parts);
+  for (const char* key : {"a_filled_m2", "a_unseen_m2", "a_unseen_5mm_m2", "a_unseen_10mm_m2"})
+    old_file["scans"].erase(key);
+  CHECK(nbs::eval::record_from_json(old_file).scans[1].a_unseen_m2 == 0.0);
+  Json short_parts = nbs::eval::to_json(parts);
+  short_parts["scans"]["a_unseen_5mm_m2"].erase(0);
+  CHECK_THROWS(nbs::eval::record_from_json(short_parts));
 }
 
 TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {
@@ -253,6 +272,8 @@ TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the pl
         nbs::CoverageEstimate::unseen_open);
   CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "unseen_loops"})", "cfg").models.coverage_estimate ==
         nbs::CoverageEstimate::unseen_loops);
+  CHECK(nbs::eval::parse_setup(R"({"coverage_estimate": "observable_open"})", "cfg").models.coverage_estimate ==
+        nbs::CoverageEstimate::observable_open);
   CHECK(nbs::eval::setup_json(d)["keep_exploring"] == true);
   const nbs::eval::Setup back = nbs::eval::parse_setup(nbs::eval::setup_json(r).dump(), "cfg");
   CHECK_FALSE(back.models.noise_robust_mesh);
@@ -633,8 +654,15 @@ TEST_CASE("runs.jsonl with --robot: unreachable_candidates round-trips; a bad --
 TEST_CASE("without --robot the record and the summary files are byte-identical to before the transfer columns",
           "[eval][robot]") {
   // The golden strings were written by this same code built from main at 311f4bb (before issue 19's transfers).
+  // Since 2026-12-07 every record also carries the parts of ĉ_m (a_filled_m2, a_unseen*_m2); without them the
+  // record is the golden one.
   const nbs::eval::RunRecord r = hand_record();
-  CHECK(nbs::eval::to_json(r).dump() ==
+  Json without_parts = nbs::eval::to_json(r);
+  for (const char* key : {"a_filled_m2", "a_unseen_m2", "a_unseen_5mm_m2", "a_unseen_10mm_m2"}) {
+    CHECK(without_parts.at("scans").at(key).size() == r.scans.size());
+    without_parts["scans"].erase(key);
+  }
+  CHECK(without_parts.dump() ==
         R"({"c_obs":0.95,"initial_index":7,"method":"C_H","n_abort":3,"n_s":2,"run":3,"scans":{"c_a":[0.5,0.8,0.9],)"
         R"("c_b":[0.4,0.7000000000000001,0.8],"c_m":[0.4,0.8,1.2000000000000002],"candidates":[0,10,20],)"
         R"("d_m":[0.1,0.2,0.30000000000000004],"e_bar_m":[0.001,0.001,0.001],"l_s_m":[0.1,0.3,0.6],)"
