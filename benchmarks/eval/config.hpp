@@ -49,7 +49,7 @@ struct Setup {
   /// runner's.
   PlannerSetting planner{};
   /// The mesh ("mesh": "thesis" | "noise_robust") and the ĉ_m form ("coverage_estimate": "unknown_open" |
-  /// "unseen_open" | "unseen_loops" | "thesis") of the runtime facade.
+  /// "observable_open" | "unseen_open" | "unseen_loops" | "thesis") of the runtime facade.
   RuntimeModels models{};
 };
 
@@ -265,9 +265,9 @@ inline constexpr std::string_view kUsage =
     "  --out DIR         output directory: runs.jsonl, summary.json, summary.md, summary.csv, eval.json\n"
     "  --setup FILE      planner set-up, JSON: any nbs::Parameters field by name, \"sensor\": dlr_lsp |\n"
     "                    scancontrol_2700_100, \"mesh\": noise_robust | thesis, \"coverage_estimate\": unknown_open |\n"
-    "                    unseen_open | unseen_loops | thesis, \"keep_exploring\": true | false, \"unseen_weight\":\n"
-    "                    beta >= 0 of SGU (default 16), \"unseen_min_edge_distance_m\": SGU (default 0.005)\n"
-    "                    (defaults first;\n"
+    "                    observable_open | unseen_open | unseen_loops | thesis, \"keep_exploring\": true |\n"
+    "                    false, \"unseen_weight\": beta >= 0 of SGU (default 16), \"unseen_min_edge_distance_m\":\n"
+    "                    SGU (default 0.005) (defaults first;\n"
     "                    docs/eval/configs/thesis.json: the thesis's)\n"
     "  --sensor NAME     laser stripe profiler preset: dlr_lsp | scancontrol_2700_100; overrides the set-up's\n"
     "                    \"sensor\" (default: the set-up's, dlr_lsp)\n"

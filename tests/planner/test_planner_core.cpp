@@ -314,6 +314,25 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
         nbs::UnseenLoopCoverage{{.enclosure = true, .free_space = false}}.estimate(in).coverage);
   CHECK(nbs::SelectableCoverage{{nbs::CoverageEstimate::thesis}}.estimate(in).coverage ==
         std::clamp(nbs::estimated_coverage(p4.mesh(), nbs::find_holes(p4.mesh(), params)), 0.0, 1.0));
+  // observable_open: unknown_open whose enclosure test also looks down from where a sensor 0.15 m away stands above
+  // the pedestal (the box's bottom): recomputed with the public functions, sample for sample.
+  const nbs::LowViews low{p4.unknown_area().min.z(), 0.15};
+  const auto open_low = [&](const Vec3& x) { return seen4(x) || nbs::enclosed_by_surface(p4.space(), x, reach, low); };
+  const nbs::SelectableCoverage observable{{nbs::CoverageEstimate::observable_open}};
+  const auto observable_seen = observable.seen(p4.space(), p4.params(), p4.unknown_area());
+  std::size_t low_mismatched = 0, low_freed = 0;
+  for (const nbs::Hole& h : loops4)
+    nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
+      low_mismatched += observable_seen(x) != open_low(x) ? 1 : 0;
+      low_freed += open4(x) && !open_low(x) ? 1 : 0;
+      CHECK((!open_low(x) || open4(x)));  // looking down more never encloses more
+    });
+  CHECK(low_mismatched == 0);
+  INFO("fan samples freed by looking down: " << low_freed);
+  CHECK(observable.estimate(in).coverage ==
+        std::clamp(nbs::estimated_coverage_unseen_free(p4.mesh(), loops4, open_low, free4,
+                                                       {params.hole_max_edges, def.min_free_share}),
+                   0.0, 1.0));
 
   // Where ĉ_m puts the missing surface (CoverageResult::unseen, handed to the utility): brute force over the fan
   // samples with the per-loop seam rule; the areas sum to A_empty of Eq. 4.35.
