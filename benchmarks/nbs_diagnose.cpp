@@ -396,6 +396,12 @@ int run(const Options& opt) {
              Mesh, SelectableCoverage>
       planner(params, presets::lsp_by_name(opt.sensor), unknown, ps, models.mesh_settings(params, unknown));
   planner.coverage.setting.form = models.coverage_estimate;
+  // NBS_DIAG_FORM=NAME: the ĉ_m form by name (kCoverageEstimateNames), e.g. observable_open.
+  if (const char* form = std::getenv("NBS_DIAG_FORM")) {
+    const auto it = std::ranges::find(kCoverageEstimateNames, std::string_view(form));
+    if (it == std::end(kCoverageEstimateNames)) throw InvalidArgument(std::string("NBS_DIAG_FORM: unknown form ") + form);
+    planner.coverage.setting.form = static_cast<CoverageEstimate>(it - std::begin(kCoverageEstimateNames));
+  }
   planner.termination = MaxScansReached(opt.scans);
   sh.sources = [&planner] {
     std::vector<CandidateSource> out;
