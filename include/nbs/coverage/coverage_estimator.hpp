@@ -96,8 +96,9 @@ struct UnseenLoopCoverage {
     /// With `enclosure`: a fan sample counts as walled in only if also the downward rays from which a sensor
     /// `low_view_distance_m` away would stand above the support (the bottom of the unknown-area box) meet measured
     /// surface (enclosed_by_surface with LowViews; the form `observable_open`). The fan under an overhang high above
-    /// the support (a mushroom's cap) is walled in above and at the sides; without this it counted as seen and ĉ_m
-    /// reached 0.87 after 2 scans at c_a = 40 % of c_obs (docs/evaluation.md).
+    /// the support (a mushroom's cap, a car's body) is walled in above and at the sides, so without this it counted
+    /// as seen though c_obs counts the surface there (docs/evaluation.md: with SGU_H the mushroom's median stop
+    /// moves from 8 to 4 scans before k99, the car's from 20 to 8.5).
     bool low_views = false;
     double low_view_distance_m = 0.15;
   };
