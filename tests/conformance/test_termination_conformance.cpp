@@ -3,6 +3,11 @@
 // minimal user-written criterion, each against its documented rule.
 #include "termination_conformance.hpp"
 
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
 namespace {
 
 /// The user-written criterion: stop once ĉ_m reaches 90 % (density ignored).
@@ -57,4 +62,58 @@ TEST_CASE("termination conformance can fail: a non-monotone criterion is caught"
       violated = violated || (c.done(p) && q.scans >= p.scans && q.estimated_coverage >= p.estimated_coverage &&
                               q.mean_density >= p.mean_density && !c.done(q));
   CHECK(violated);
+}
+
+TEST_CASE("CoverageSettled: held on consecutive scans or settled within a width, against a brute-force replay",
+          "[conformance][termination]") {
+  using nbs::ModelProgress;
+  // On the grid there is no history: never done (and the criterion is not monotone, it reads the history).
+  nbs::conformance::check_termination_conformance(nbs::CoverageSettled{}, [](const ModelProgress&) { return false; },
+                                                  false);
+  // The oracle: the rule of benchmarks/stop_rule_table.py's settled_rule, per prefix of a ĉ_m sequence — held
+  // (≥ 0.9 on the last 2 scans) or settled (last ≥ 0.75, the last 3 within 0.03), density ≥ 0.2.
+  const auto oracle = [](const std::vector<double>& h, double density) {
+    const std::size_t n = h.size();
+    if (density < 0.2 || n == 0) return false;
+    if (n >= 2 && h[n - 1] >= 0.9 && h[n - 2] >= 0.9) return true;
+    if (n < 3 || h[n - 1] < 0.75) return false;
+    double lo = 1.0, hi = 0.0;
+    for (std::size_t i = n - 3; i < n; ++i) lo = std::min(lo, h[i]), hi = std::max(hi, h[i]);
+    return hi - lo < 0.03;
+  };
+  const nbs::CoverageSettled rule;
+  // Hand cases: one high value does not stop; two do; a plateau above the floor does; one below it does not.
+  const std::vector<std::pair<std::vector<double>, bool>> cases{
+      {{0.95}, false},           {{0.5, 0.95}, false},        {{0.91, 0.95}, true},  {{0.78, 0.79, 0.80}, true},
+      {{0.70, 0.72, 0.71}, false}, {{0.76, 0.80, 0.78}, false}, {{0.2, 0.8, 0.81, 0.79}, true}};
+  for (const auto& [h, expected] : cases) {
+    INFO("history of " << h.size() << ", last " << h.back());
+    CHECK(rule.done(ModelProgress{static_cast<int>(h.size()), h.back(), 0.5, h}) == expected);
+    CHECK(rule.done(ModelProgress{static_cast<int>(h.size()), h.back(), 0.1, h}) == false);  // density not reached
+  }
+  // Random ĉ_m walks: every prefix against the oracle.
+  std::uint64_t state = 7;
+  const auto uniform = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  std::size_t stops = 0;
+  for (int walk = 0; walk < 500; ++walk) {
+    std::vector<double> h;
+    double c = uniform();
+    for (int k = 0; k < 12; ++k) {
+      c = std::clamp(c + 0.08 * (uniform() - 0.4), 0.0, 1.0);
+      h.push_back(c);
+      const double d = uniform() < 0.1 ? 0.1 : 0.5;
+      const bool got = rule.done(ModelProgress{static_cast<int>(h.size()), c, d, h});
+      REQUIRE(got == oracle(h, d));
+      stops += got ? 1 : 0;
+    }
+  }
+  CHECK(stops > 100);  // the walks exercise both branches
+  // Bad settings are refused.
+  CHECK_THROWS_AS(nbs::CoverageSettled(1.5, 2, 0.75, 3, 0.03, 0.2), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 0, 0.75, 3, 0.03, 0.2), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 2, 0.75, 1, 0.03, 0.2), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 2, 0.75, 3, -0.1, 0.2), nbs::InvalidArgument);
 }

@@ -451,6 +451,40 @@ TEST_CASE("loop: a custom termination policy stops the loop exactly", "[planner]
   }
 }
 
+TEST_CASE("loop: CoverageSettled reads the planner's ĉ_m history and stops where the replayed rule does",
+          "[planner][loop]") {
+  const nbs::test::SphereOnPedestal sphere;
+  using Settled = nbs::AnyOf<nbs::CoverageSettled, nbs::MaxScansReached>;
+  using Planner = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
+                                  nbs::NoCollisions, Settled>;
+  Planner p({}, light_lsp(), sphere_box(), setting(1));
+  // d̄_m stays below Tab. 4.3's 20 % on this light sphere scan: the density target is 0 here.
+  const nbs::CoverageSettled rule(0.9, 2, 0.75, 3, 0.03, 0.0);
+  p.termination = Settled{{rule, nbs::MaxScansReached(12)}};
+  nbs::SimulationSetting sim;
+  sim.seed = 3;
+  sim.max_scans = 20;
+  const auto res = nbs::run_simulation(p, sphere, sim);
+  const auto& rec = res.records;
+  REQUIRE(!rec.empty());
+  // The history is ĉ_m after every scan, as integrate() reported it.
+  const nbs::ModelProgress last = p.progress();
+  REQUIRE(last.coverage_history.size() == rec.size());
+  for (std::size_t i = 0; i < rec.size(); ++i)
+    CHECK(last.coverage_history[i] == rec[i].integration.estimated_coverage);
+  // The loop stopped at the first scan where the rule, replayed on the history's prefix, holds (or at 12 scans).
+  std::size_t first = rec.size();
+  for (std::size_t i = 0; i < rec.size() && first == rec.size(); ++i) {
+    const std::vector<double> prefix(last.coverage_history.begin(), last.coverage_history.begin() + (i + 1));
+    if (rule.done({static_cast<int>(i + 1), prefix.back(), rec[i].integration.mean_density, prefix})) first = i;
+  }
+  INFO("stopped after " << rec.size() << " scans; rule first holds after " << first + 1);
+  CHECK(res.stop == nbs::LoopStop::done);
+  CHECK(first + 1 < 12);  // the rule, not n_abort, stops this run
+  CHECK(rec.size() == first + 1);
+  CHECK(p.next_best_scan().status == nbs::PlanStatus::done);
+}
+
 TEST_CASE("loop: the quality term sees surface after one scan; no planned path enters the pedestal", "[planner][loop]") {
   const nbs::test::SphereOnPedestal sphere;
   nbs::NbsPlanner<> planner({}, light_lsp(), sphere_box(), setting(2));
