@@ -56,8 +56,8 @@ def settled_rule(th, floor, window, delta, density=0.2):
         c, d = r["scans"]["c_m"], r["scans"]["d_m"]
         held = 0
         for i in range(len(c)):
-            held = held + 1 if c[i] >= th and d[i] >= density else 0
-            if held >= 2:
+            held = held + 1 if c[i] >= th else 0
+            if held >= 2 and d[i] >= density:  # the density now, as CoverageSettled
                 return i + 1
             if i >= window and c[i] >= floor and d[i] >= density and \
                     max(c[i - window:i + 1]) - min(c[i - window:i + 1]) < delta:

@@ -67,7 +67,7 @@ OBJECTS = {
               [cylinder((0.045 * math.cos(2 * math.pi * k / 3), 0.045 * math.sin(2 * math.pi * k / 3), 0.0),
                         (0, 0, 1), 0.008, 0.085) for k in range(3)]),
     # a spool lying on its side: an axle between two wheels that touch the support
-    "spool": ("a spool on its side: an axle r 1.2 cm, 12 cm long, between two wheels r 4 cm, 1.5 cm wide",
+    "spool": ("a spool on its side: an axle r 1.2 cm, 13 cm long, between two wheels r 4 cm, 1.5 cm wide",
               [cylinder((-0.075, 0, 0.04), (1, 0, 0), 0.04, 0.015), cylinder((0.06, 0, 0.04), (1, 0, 0), 0.04, 0.015),
                cylinder((-0.065, 0, 0.04), (1, 0, 0), 0.012, 0.13)]),
 }

@@ -161,11 +161,14 @@ struct RunRecord {
     x.mode = s["mode"][i].get<std::string>();
   }
   // The ĉ_m parts (absent in files written before they existed: left 0).
+  const bool has_parts = s.contains("a_filled_m2");
   for (const char* key : {"a_filled_m2", "a_unseen_m2", "a_unseen_5mm_m2", "a_unseen_10mm_m2"}) {
-    if (!s.contains(key)) continue;
-    if (s.at(key).size() != n) throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
+    if (s.contains(key) != has_parts)
+      throw std::runtime_error(std::string("scan series '") + key + "': the four ĉ_m parts come together");
+    if (has_parts && s.at(key).size() != n)
+      throw std::runtime_error(std::string("scan series '") + key + "' has a wrong length");
   }
-  if (s.contains("a_filled_m2"))
+  if (has_parts)
     for (std::size_t i = 0; i < n; ++i) {
       r.scans[i].a_filled_m2 = s["a_filled_m2"][i].get<double>();
       r.scans[i].a_unseen_m2 = s.at("a_unseen_m2")[i].get<double>();

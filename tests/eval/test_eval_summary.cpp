@@ -249,6 +249,9 @@ TEST_CASE("run record JSON round trip", "[eval]") {
   Json short_parts = nbs::eval::to_json(parts);
   short_parts["scans"]["a_unseen_5mm_m2"].erase(0);
   CHECK_THROWS(nbs::eval::record_from_json(short_parts));
+  Json some_parts = nbs::eval::to_json(parts);
+  some_parts["scans"].erase("a_unseen_10mm_m2");
+  CHECK_THROWS(nbs::eval::record_from_json(some_parts));
 }
 
 TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the planner setting", "[eval]") {

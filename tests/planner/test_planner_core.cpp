@@ -323,12 +323,13 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
   std::size_t low_mismatched = 0, low_freed = 0;
   for (const nbs::Hole& h : loops4)
     nbs::for_each_fan_sample(p4.mesh(), h, [&](const Vec3& x) {
-      low_mismatched += observable_seen(x) != open_low(x) ? 1 : 0;
-      low_freed += open4(x) && !open_low(x) ? 1 : 0;
-      CHECK((!open_low(x) || open4(x)));  // looking down more never encloses more
+      const bool lo = open_low(x);
+      low_mismatched += observable_seen(x) != lo ? 1 : 0;
+      low_freed += !lo && open4(x) ? 1 : 0;
     });
   CHECK(low_mismatched == 0);
-  INFO("fan samples freed by looking down: " << low_freed);
+  // The sphere bulges over the pedestal: some of its fans are walled in above and at the sides but open below.
+  CHECK(low_freed > 0);
   CHECK(observable.estimate(in).coverage ==
         std::clamp(nbs::estimated_coverage_unseen_free(p4.mesh(), loops4, open_low, free4,
                                                        {params.hole_max_edges, def.min_free_share}),

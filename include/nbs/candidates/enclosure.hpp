@@ -60,7 +60,10 @@ namespace detail {
 
 /// Where a sensor may look from below (enclosed_by_surface's lower directions): a sensor `view_distance_m` from the
 /// point must stand strictly above the support plane z = `support_z` (world, m). 0.15 m is the DLR LSP's near range,
-/// the distance c_obs places its sensors at (ObservabilitySettings::min_range_m).
+/// the distance c_obs places its sensors at (ObservabilitySettings::min_range_m). The rays themselves run the full
+/// reach like the upward ones, so measured surface beyond that sensor position also blocks them: with the support
+/// measured into the space (a real table under the object) every admissible downward ray ends on it and the test is
+/// the upward one; crop the support's points first.
 struct LowViews {
   double support_z = 0.0;
   double view_distance_m = 0.15;

@@ -204,7 +204,7 @@ public:
       r.t_coverage_s = lap();
     }
     ++scans_;  // after the models: a throw above leaves n_s unchanged
-    coverage_history_.push_back(coverage_);
+    if (r.status == IntegrationStatus::ok) coverage_history_.push_back(coverage_);  // a scan that changed the models
     scores_.reset();  // S is scored anew after a scan (reselect)
     if constexpr (kHasRobot) {
       if (robot.active() && !scan_in.profile_poses.empty()) robot.scanned(scan_in.profile_poses.back());
@@ -334,7 +334,8 @@ public:
   [[nodiscard]] LinearScanPath initial_scan(int index) const { return initial_scan_path(box_, standoff(), index); }
 
   // ---- State -------------------------------------------------------------------------------------------------------
-  /// (n_s, ĉ_m, d̄_m) and ĉ_m after each scan (coverage_history, borrowed: valid until the next integrate()).
+  /// (n_s, ĉ_m, d̄_m) and ĉ_m after each scan that changed the models (coverage_history: an empty scan or one outside
+  /// the unknown area adds nothing; borrowed: valid until the next integrate()).
   [[nodiscard]] ModelProgress progress() const {
     return {scans_, coverage_, density_, std::span<const double>(coverage_history_)};
   }
@@ -588,7 +589,7 @@ private:
   double last_path_length_ = 0.0;
   int scans_ = 0;
   double coverage_ = 0.0;
-  std::vector<double> coverage_history_;  // ĉ_m after each integrate(), one per counted scan
+  std::vector<double> coverage_history_;  // ĉ_m after each integrate() whose status was ok
   std::vector<UnseenSample> unseen_;  // where ĉ_m puts the missing surface after the last scan (CoverageResult::unseen)
   double density_ = 0.0;
   IterationStats last_stats_{};

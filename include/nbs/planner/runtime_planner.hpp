@@ -174,6 +174,7 @@ public:
   [[nodiscard]] LinearScanPath initial_scan(int index) const {
     return std::visit([&](const auto& p) { return p.initial_scan(index); }, planner_);
   }
+  /// NbsPlanner::progress() of the planner held (coverage_history borrowed: valid until the next integrate()).
   [[nodiscard]] ModelProgress progress() const {
     return std::visit([](const auto& p) { return p.progress(); }, planner_);
   }

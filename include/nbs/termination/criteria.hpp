@@ -19,8 +19,8 @@ struct ModelProgress {
   int scans = 0;                  ///< n_s: scans integrated so far.
   double estimated_coverage = 0;  ///< ĉ_m, Eq. (4.35), ∈ [0, 1].
   double mean_density = 0;        ///< d̄_m, mean relative point density (Eqs. 4.24–4.25), ∈ [0, 1].
-  /// ĉ_m after each scan so far, oldest first (NbsPlanner: one value per scan, the last = estimated_coverage);
-  /// empty when the caller keeps no history. Borrowed: valid until the planner's next integrate().
+  /// ĉ_m after each scan so far, oldest first (NbsPlanner: one value per scan that changed the models, the last =
+  /// estimated_coverage); empty when the caller keeps no history. Borrowed: valid until the planner's next integrate().
   std::span<const double> coverage_history{};
 };
 
@@ -54,7 +54,8 @@ struct MaxScansReached {
 };
 
 /// Stop when ĉ_m has held `held` for `held_scans` consecutive scans, or has settled: ĉ_m ≥ `floor` and its last
-/// `window` values (ModelProgress::coverage_history) lie within `width`; both with d̄_m ≥ `density`. Not monotone in
+/// `window` values (ModelProgress::coverage_history) lie within `width`; both with the current d̄_m ≥ `density`.
+/// Never done without history or with held_scans < 1 or window < 2 (the constructor refuses those). Not monotone in
 /// (n_s, ĉ_m, d̄_m): it reads the history. Ours (issue 18; docs/evaluation.md, "stop rules with SGU"): ĉ_m ≥ 0.8 after
 /// one scan stops 4–26 scans before the truth reaches 0.99 c_obs on most meshes, a higher threshold never stops on
 /// objects whose ĉ_m levels off lower (a mug's cavity); replayed with SGU_H and observable_open the defaults below put
@@ -78,7 +79,7 @@ struct CoverageSettled {
   }
   [[nodiscard]] bool done(const ModelProgress& p) const {
     const auto h = p.coverage_history;
-    if (!(p.mean_density >= density) || h.empty()) return false;
+    if (!(p.mean_density >= density) || h.empty() || held_scans < 1 || window < 2) return false;  // fields are public
     const auto n = static_cast<std::ptrdiff_t>(h.size());
     if (n >= held_scans && std::all_of(h.end() - held_scans, h.end(), [&](double c) { return c >= held; }))
       return true;
