@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// bench_planner: NBS planning time of the composed planner (issue 5). Method C_H (IG/Quality, Boundary Search +
-// Hole Rescan), bunny normalised to 160 mm on the pedestal, Tab. 4.3 parameters, DLR LSP, 2 threads, seed 1.
+// bench_planner: NBS planning time of the composed planner (issue 5). The default planner NbsPlanner<> (SGU_H:
+// surface gain + unseen surface, Boundary Search + Hole Rescan, the settled stop rule), bunny normalised to 160 mm on the pedestal, Tab. 4.3 parameters, DLR LSP, 2 threads, seed 1.
 // Headlines: planner.t_nbs_median_s (median over the planning steps of one closed loop; target ≤ 0.05 s, thesis
 // Tab. 4.5: 1.37 s) and planner.t_nbs_per_candidate_ms (median of t_nbs / candidates scored), with the default
 // PlannerSetting (noise-robust mesh, unseen_open ĉ_m); planner.t_nbs_median_s_thesis_mesh: the same loop with the
-// thesis's mesh and ĉ_m (nbs::ThesisMeshPlanner). planner.t_integrate_median_s(_thesis_mesh): median time of
+// thesis's method C_H, mesh, ĉ_m and stop rule (nbs::ThesisMeshPlanner). planner.t_integrate_median_s(_thesis_mesh): median time of
 // NbsPlanner::integrate per scan in the same loops and planner.t_coverage_median_s(_thesis_mesh) its ĉ_m part
 // (reported, no target).
 // Google Benchmark case: one planning step after the first scan (planner rebuilt outside the timing).
@@ -156,14 +156,14 @@ int main(int argc, char** argv) {
   // The thesis's mesh and ĉ_m (StreamingMesh, ThesisCoverage), same loop.
   const LoopTimes th = closed_loop<nbs::ThesisMeshPlanner<>>(scanner, ps, false);
   char note[160];
-  std::snprintf(note, sizeof note, "C_H, bunny 160 mm, Tab. 4.3, 2 threads, %d scans; target <= 0.05 s", def.scans);
+  std::snprintf(note, sizeof note, "default (SGU_H), bunny 160 mm, Tab. 4.3, 2 threads, %d scans; target <= 0.05 s", def.scans);
   nbs::bench::report_headline("planner.t_nbs_median_s", def.t_nbs_median_s, note);
   nbs::bench::report_headline("planner.t_nbs_per_candidate_ms", def.per_candidate_ms, "report");
   nbs::bench::report_headline("planner.t_integrate_median_s", def.t_integrate_median_s,
                               "report: integrate() per scan (space, mesh, features, c_m with unseen_open)");
   nbs::bench::report_headline("planner.t_coverage_median_s", def.t_coverage_median_s,
                               "report: of it loops, c_m (unseen_open: enclosure rays) and mean density");
-  std::snprintf(note, sizeof note, "the same with the thesis's mesh and c_m, %d scans (largest c_m %.3f)", th.scans,
+  std::snprintf(note, sizeof note, "C_H with the thesis's mesh, c_m and stop, %d scans (largest c_m %.3f)", th.scans,
                 th.best_coverage);
   nbs::bench::report_headline("planner.t_nbs_median_s_thesis_mesh", th.t_nbs_median_s, note);
   nbs::bench::report_headline("planner.t_integrate_median_s_thesis_mesh", th.t_integrate_median_s,

@@ -3,7 +3,7 @@
 // 2 iterations) against Open3D 0.16 and PCL 1.13 point-to-plane ICP on the same scan pairs (issue 20).
 //
 // Scan pairs from the real pipeline: the bundled bunny normalised to 0.16 m on the pedestal, the Embree scanner with
-// the DLR LSP preset (range noise on), a default NbsPlanner<> that integrates its first kExactScans scans with exact
+// the DLR LSP preset (range noise on), a ThesisPlanner<> (C_H, the default before 2026-12-07) that integrates its first kExactScans scans with exact
 // poses; then each next planned scan is a pair: it is displaced by a known seeded rigid error E (translation of a
 // fixed length in a random direction, rotation of a fixed angle about a random axis through the sensor origin at the
 // path start) and registered to the current model by each method, and afterwards integrated exactly (the model
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
   const nbs::embree::SimulatedScanner scanner(object);
   nbs::PlannerSetting ps;
   ps.threads = 2;  // planning only (outside every timing)
-  nbs::NbsPlanner<> planner({}, nbs::presets::dlr_lsp(), box, ps);
+  nbs::ThesisPlanner<> planner({}, nbs::presets::dlr_lsp(), box, ps);  // the scan pairs the figures were made on
   // Keep planning past the quality criterion (the bunny reaches it after a few scans), as benchmarks/eval does.
   std::get<nbs::CoverageAndDensityReached>(planner.termination.criteria).coverage =
       std::numeric_limits<double>::infinity();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// nbs_diagnose: how good are the planner's choices? Runs the closed simulation loop of the default planner (C_H or
-// C_B/C_S) on a mesh and, at every planning step, executes EVERY candidate in the simulated scanner and measures its
+// nbs_diagnose: how good are the planner's choices? Runs the closed simulation loop of a planner (default the
+// thesis's C_H, as in docs/evaluation.md's diagnoses; --selection, --search) on a mesh and, at every planning step,
+// executes EVERY candidate in the simulated scanner and measures its
 // true gain: the number of not-yet-covered ground-truth samples (non-bottom) within r (3 mm) of the candidate's
 // measured points. Prints per step: candidates, utility of the chosen one, its true gain, the best true gain, the
 // rank of the chosen one by true gain, and the Spearman correlation between utility and true gain; then the source of
@@ -59,7 +60,7 @@ struct Options {
   double size_m = 0.16;
   std::uint64_t seed = 1;
   int scans = 12;
-  nbs::Method method{};  // --method, or --selection and --search one by one
+  nbs::Method method = nbs::kThesisMethod;  // --method, or --selection and --search one by one (default C_H)
   std::string sensor = "dlr_lsp";
   bool oracle = false;
   bool thesis_mesh = false;  // the thesis's mesh and ĉ_m instead of the planner's defaults

@@ -84,7 +84,7 @@ def main():
     print("| k97 / k98 / k99 (truth) | " + " | ".join(
         f"{st.median(k_share(r, .97) for r in R):.1f} / {st.median(k_share(r, .98) for r in R):.1f} / "
         f"{st.median(k_share(r, .99) for r in R):.1f}" for R in runs.values()) + " |")
-    rules = [(f"ĉ_m ≥ {th}" + (" (today's default)" if th == 0.8 else ""), threshold_rule(th))
+    rules = [(f"ĉ_m ≥ {th}" + (" (the thesis's rule)" if th == 0.8 else ""), threshold_rule(th))
              for th in (0.8, 0.85, 0.9, 0.94, 0.96)]
     rules += [(f"ĉ_m ≥ {th} on 2 consecutive scans", threshold_rule(th, consecutive=2)) for th in (0.8, 0.9, 0.93)]
     rules += [(f"ĉ_m gain over {w} scans < {dl}", stagnation_rule(w, dl)) for w in (2, 3) for dl in (0.005, 0.01)]

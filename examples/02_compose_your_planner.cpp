@@ -15,12 +15,14 @@
 #include "nbs/sensor/presets.hpp"
 #include "nbs/sim/metrics.hpp"
 
-// The thesis's best method C_H spelled out; every argument below is the default and may be swapped.
-using Planner = nbs::NbsPlanner<nbs::IgQualityUtility,           // f_utility with ω(n_s), Eqs. 4.30–4.31
+// The default planner spelled out; every argument below is the default and may be swapped (nbs::ThesisPlanner<> is
+// the thesis's best method C_H: nbs::IgQualityUtility, f_utility with ω(n_s), Eqs. 4.30–4.31, and
+// nbs::ThesisTermination, ĉ_m ≥ 80 % and d̄_m ≥ 20 %).
+using Planner = nbs::NbsPlanner<nbs::SurfaceGainUnseenUtility,   // SGU: surface gain + the missing surface ĉ_m locates
                                 nbs::BoundaryHoleSpace,          // Boundary Search, then Hole Rescan (Sec. 4.6)
                                 nbs::LaserStripeProfiler,        // the sensor (or nbs::AreaSensor)
                                 nbs::NoCollisions,               // infinite robot workspace (Sec. 4.7)
-                                nbs::DefaultTermination,         // ĉ_m ≥ 80 % and d̄_m ≥ 20 %, or n_abort
+                                nbs::DefaultTermination,         // ĉ_m held ≥ 0.9 or settled, d̄_m ≥ 20 %, or n_abort
                                 nbs::ProbabilisticVoxelSpace<>,  // PVS, thesis sensor model (Sec. 3.3.2)
                                 nbs::NoiseRobustStreamingMesh,   // streaming mesh (Sec. 3.3.1), noise-robust options
                                 nbs::UnseenLoopCoverage>;        // ĉ_m (Eq. 4.35) over the unseen share of every loop

@@ -16,8 +16,9 @@
 #include "nbs/planner/simulation_loop.hpp"
 #include "nbs/sensor/presets.hpp"
 
-// C_H over MyVoxelSpace: Utility, Search, Sensor, Collision, Termination as the defaults, then the Space.
-using Planner = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
+// The default planner over MyVoxelSpace: Utility, Search, Sensor, Collision, Termination as the defaults, then the
+// Space.
+using Planner = nbs::NbsPlanner<nbs::SurfaceGainUnseenUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
                                 nbs::NoCollisions, nbs::DefaultTermination, MyVoxelSpace>;
 
 int main(int argc, char** argv) {

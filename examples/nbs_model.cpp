@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // nbs_model — the main job: simulated autonomous modeling of the bundled Stanford bunny (or --mesh) with the
-// Next-Best-Scan planner (default IG+Quality with Boundary Search + Hole Rescan, method C_H, Sec. 4.7). A first
+// Next-Best-Scan planner (default nbs's SGU_H with the settled stop rule; --method C_H --thesis-mesh is the thesis's
+// best method as written, Sec. 4.7). A first
 // scan along one of the 13 initial paths (Sec. 4.7.2, chosen by --seed), then plan → scan (Embree simulated laser
 // stripe profiler, --sensor, default the DLR LSP) → integrate until the planner is done or n_abort scans were
 // taken. Prints one line per scan with the planner's estimates and the true c_a; writes mesh, voxel space,
@@ -70,6 +71,7 @@ struct Options {
   bool images = true;
   bool initial_only = false;
   bool thesis_mesh = false;
+  std::optional<nbs::StopRule> stop_rule;
   bool viewer = false;
   bool color = false;
   nbs::tools::PoseErrorOptions pose;  ///< --pose-error, --registration
@@ -82,6 +84,7 @@ void add_options(CLI::App& app, Options& o) {
   tools::set_conventions(app);
   tools::add_object_options(app, o);
   tools::add_run_options(app, o);
+  tools::add_stop_rule(app, o.stop_rule);
   tools::add_pose_error_options(app, o.pose);
   tools::add_robot_options(app, o.robot);
   tools::add_out(app, o.out);
@@ -261,7 +264,6 @@ int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs
                      const nbs::embree::SimulatedScanner& scanner) {
   using namespace nbs;
   const auto t0 = std::chrono::steady_clock::now();
-  const Parameters params;
   const LaserStripeProfiler lsp = presets::lsp_by_name(opt.sensor);
   const double standoff_m = 0.5 * (lsp.range.min_m + lsp.range.max_m);
   const std::vector<LinearScanPath> paths = initial_scan_paths(mesh.bounds(), standoff_m);
@@ -286,7 +288,7 @@ int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs
 
 std::string_view stop_name(nbs::LoopStop s) {
   switch (s) {
-    case nbs::LoopStop::done: return "done (termination criterion holds: target coverage and density reached)";
+    case nbs::LoopStop::done: return "done (termination criterion holds: the model is complete by its stop rule)";
     case nbs::LoopStop::max_scans: return "n_abort scans reached";
     case nbs::LoopStop::no_candidates: return "no candidate left";
     case nbs::LoopStop::transfer_failed: return "transfer failed (the arm found no motion to the chosen scan's start)";
@@ -334,7 +336,7 @@ int run(const Options& opt) {
   unknown.min -= Vec3(0.01, 0.01, 0.0);
   unknown.max += Vec3(0.01, 0.01, 0.01);
   PlannerSetting ps;
-  RuntimeModels models = opt.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
+  RuntimeModels models = tools::run_models(opt.thesis_mesh, opt.stop_rule);
   if (opt.pose.registration) models.registration = *opt.pose.registration;
   ps.threads = opt.threads;
   ps.seed = opt.seed;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # The main job: installs what is missing, builds nbs_model (Release, tests off) in build/demo and runs it on the
-# bundled Stanford bunny: autonomous modeling with the NBS planner (method C_H) until done or 30 scans; mesh,
+# bundled Stanford bunny: autonomous modeling with the NBS planner (default method SGU_H) until done or 30 scans; mesh,
 # voxels, candidates, pictures, report.json and the session viewer out/viewer/index.html (three.js from
 # scripts/install-viewer.sh; without it the page says how to get it) go to out/. Extra arguments go to nbs_model
 # (e.g. scripts/demo.sh --seed 7 --method C_S --scans 10; see nbs_model --help).

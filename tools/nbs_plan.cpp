@@ -36,6 +36,7 @@ struct Options {
   int scans = nbs::Parameters{}.max_scans;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   bool thesis_mesh = false;
+  std::optional<nbs::StopRule> stop_rule;
 };
 
 /// `xmin,ymin,zmin,xmax,ymax,zmax` in metres, finite, min < max on every axis.
@@ -104,7 +105,7 @@ nlohmann::json plan(const Options& o) {
   PlannerSetting ps;
   ps.threads = o.threads;
   ps.seed = o.seed;
-  RuntimePlanner planner(o.method, params, lsp, box, ps, o.thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{});
+  RuntimePlanner planner(o.method, params, lsp, box, ps, tools::run_models(o.thesis_mesh, o.stop_rule));
   nlohmann::json integrated = nlohmann::json::array();
   for (std::size_t i = 0; i < session.scans.size(); ++i) {
     try {
@@ -185,6 +186,7 @@ int main(int argc, char** argv) {
                                            "(default: the session's hand_eye, if recorded)")
       ->type_name("FILE");
   tools::add_run_options(app, o);
+  tools::add_stop_rule(app, o.stop_rule);
   tools::add_config(app);
   if (const auto code = tools::parse(app, argc, argv)) return *code;
   nlohmann::json out;

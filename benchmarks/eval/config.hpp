@@ -9,7 +9,8 @@
 /// ("dlr_lsp", "scancontrol_2700_100"), "mesh": "noise_robust" (default) | "thesis" and "coverage_estimate": "unknown_open"
 /// (default) | "unseen_open" | "unseen_loops" | "thesis" and "keep_exploring": true (default) | false (RuntimeModels::noise_robust_mesh,
 /// ::coverage_estimate, PlannerSetting::keep_exploring; the defaults are theirs), "unseen_weight" (β of SGU, ≥ 0) and
-/// "unseen_min_edge_distance_m" (SGU, metres, ≥ 0) (RuntimeModels::selection).
+/// "unseen_min_edge_distance_m" (SGU, metres, ≥ 0) (RuntimeModels::selection), "stop_rule": "settled" (default) |
+/// "thesis" | "max_scans" (RuntimeModels::stop_rule: the rule that judges n_s; every run still goes to n_abort).
 /// Unknown keys, wrong types and out-of-range values are errors naming the key.
 
 #include <algorithm>
@@ -135,17 +136,20 @@ void for_each_parameter(Parameters& p, F&& f) {
   j["keep_exploring"] = s.planner.keep_exploring;
   j["unseen_weight"] = s.models.selection.unseen_weight;
   j["unseen_min_edge_distance_m"] = s.models.selection.unseen_min_edge_distance_m;
+  j["stop_rule"] = format_stop_rule(s.models.stop_rule);
   return j;
 }
 
-/// An eval.json configuration written before the set-up keys of SGU existed ("unseen_weight",
-/// "unseen_min_edge_distance_m") ran with their defaults (no method used them): adds the missing ones, so that such
-/// an output can be resumed and merged. Leaves every other key as it is.
+/// An eval.json configuration written before later set-up keys existed: SGU's ("unseen_weight",
+/// "unseen_min_edge_distance_m") ran with their defaults (no method used them), and n_s was judged by the thesis's
+/// rule before "stop_rule" existed. Adds the missing ones, so that such an output can be resumed and merged. Leaves
+/// every other key as it is.
 [[nodiscard]] inline nlohmann::json with_selection_defaults(nlohmann::json config) {
   if (!config.is_object() || !config.contains("setup") || !config["setup"].is_object()) return config;
   const nlohmann::json defaults = setup_json(Setup{});
   for (const char* key : {"unseen_weight", "unseen_min_edge_distance_m"})
     if (!config["setup"].contains(key)) config["setup"][key] = defaults.at(key);
+  if (!config["setup"].contains("stop_rule")) config["setup"]["stop_rule"] = format_stop_rule(StopRule::thesis);
   return config;
 }
 
@@ -172,6 +176,10 @@ void for_each_parameter(Parameters& p, F&& f) {
     try {
       if (key == "mesh") {
         s.models.noise_robust_mesh = detail::choice(value, key, detail::kMeshNames) == 1;
+        continue;
+      }
+      if (key == "stop_rule") {
+        s.models.stop_rule = static_cast<StopRule>(detail::choice(value, key, kStopRuleNames));
         continue;
       }
       if (key == "coverage_estimate") {
@@ -207,7 +215,7 @@ void for_each_parameter(Parameters& p, F&& f) {
     if (!found) {
       std::string valid;
       detail::for_each_parameter(s.params, [&](const char* name, auto&) { valid += std::string(name) + ", "; });
-      throw UsageError(origin + ": unknown set-up key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring, unseen_weight, unseen_min_edge_distance_m)");
+      throw UsageError(origin + ": unknown set-up key '" + key + "' (valid keys: " + valid + "sensor, mesh, coverage_estimate, keep_exploring, unseen_weight, unseen_min_edge_distance_m, stop_rule)");
     }
   }
   try {
@@ -256,7 +264,7 @@ inline constexpr std::string_view kUsage =
     "  --mesh PATH       OBJ or PLY mesh of the object (required)\n"
     "  --size M          largest bounding-box extent after scaling, metres (default 0.16)\n"
     "  --up x|y|z        axis of the file that points up (default y, as in the bundled bunny and every tool)\n"
-    "  --methods LIST    comma-separated method codes (default C_H), or 'all' / 'thesis' (the 12 R,I,Q,C x S,B,H)\n"
+    "  --methods LIST    comma-separated method codes (default SGU_H), or 'all' / 'thesis' (the 12 R,I,Q,C x S,B,H)\n"
     "  --method CODE     one method: the same as --methods CODE (not both)\n"
     "  --runs N          runs per method, >= 1 (default 20)\n"
     "  --scans N         n_abort, scans per run (default: max_scans of the set-up, 30)\n"

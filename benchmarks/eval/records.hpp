@@ -71,7 +71,7 @@ struct RunRecord {
   std::uint64_t seed = 0;  ///< seed of the run (initial scan, sensor noise, Random selection)
   int initial_index = 0;   ///< which of the 13 initial scan paths (Sec. 4.7.2)
   int n_abort = 30;     ///< scan limit
-  int n_s = 30;         ///< first scan after which ĉ_m and d̄_m reached their targets, else n_abort
+  int n_s = 30;         ///< first scan after which the set-up's stop rule held, else n_abort
   /// "max_scans", "no_candidates", "no_reachable_candidate", "transfer_failed" (loop ended early) or "done"
   std::string stop;
   double c_obs = 0;     ///< observability ceiling of the mesh

@@ -53,7 +53,7 @@ struct RunContext {
   int n_abort = 30;
   double c_obs = 0.0;
   PlannerSetting setting{};  ///< keep_exploring of the config; threads and seed are set per run
-  RuntimeModels models{};    ///< mesh, ĉ_m form and selection options of the config (and the registration method)
+  RuntimeModels models{};    ///< mesh, ĉ_m form, selection options and stop rule of the config (and the registration method)
   /// --pose-error / --registration: the error of each run (seed derived from the run's) and whether the records
   /// carry the pose fields.
   tools::PoseErrorOptions pose{};
@@ -80,13 +80,9 @@ struct RunContext {
   if (ctx.robot) planner.set_robot(ctx.robot->robot, ctx.robot->start, ctx.robot->setting);
   // Keep planning after the quality criterion holds (Sec. 4.7.2: "we do not abort the algorithm after n_s"):
   // the planner's own coverage criterion is made unreachable; n_s is judged below with the real targets.
-  std::visit(
-      [&](auto& p) {
-        std::get<CoverageAndDensityReached>(p.termination.criteria).coverage = std::numeric_limits<double>::infinity();
-        std::get<MaxScansReached>(p.termination.criteria).max_scans = ctx.n_abort;
-      },
-      planner.variant());
-  const CoverageAndDensityReached quality(params);
+  // The set-up's stop rule judges n_s below, on the planner's own progress (ĉ_m history included).
+  const SelectableTermination quality(params, ctx.models.stop_rule);
+  std::visit([&](auto& p) { p.termination = SelectableTermination(params, StopRule::max_scans); }, planner.variant());
   // The scans go through the pose-error decorator (zero error without --pose-error: bit-identical scans).
   PoseErrorDriver driver(SimulatedDriver(ctx.scanner, planner.sensor(), seed), ctx.pose.setting(seed));
 
@@ -172,7 +168,7 @@ struct RunContext {
     }
     if (r.scan == 1) rec.initial_index = r.initial_index;
     rec.scans.push_back(std::move(row));
-    if (!reached && quality.done(ModelProgress{r.scan, r.integration.estimated_coverage, r.integration.mean_density})) {
+    if (!reached && quality.done(planner.progress())) {
       reached = true;
       rec.n_s = r.scan;
     }

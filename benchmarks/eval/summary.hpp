@@ -52,7 +52,7 @@ namespace nbs::eval {
 
 /// What one run contributes to its method's summary row (Tab. 4.5).
 struct RunOutcome {
-  double n_s = 0;           ///< scan at which the quality criterion held, else n_abort
+  double n_s = 0;           ///< scan at which the set-up's stop rule held, else n_abort
   double ca_at_stop = 0;    ///< c_a(n_s)
   double ca_at_end = 0;     ///< c_a(n_abort) (last scan if the loop ended early)
   double path_length_m = 0; ///< l_s over all scans of the run

@@ -45,9 +45,14 @@ TEST_CASE("TerminationCriterion conformance: every model and a user-written one"
   nbs::Parameters params;
   params.max_scans = 12;
   params.target_coverage = 0.95;
-  check_termination_conformance(nbs::default_termination(params), [](const ModelProgress& p) {
+  check_termination_conformance(nbs::thesis_termination(params), [](const ModelProgress& p) {
     return p.scans >= 12 || (p.estimated_coverage >= 0.95 && p.mean_density >= 0.2);
   });
+  check_termination_conformance(nbs::SelectableTermination(params, nbs::StopRule::thesis), [](const ModelProgress& p) {
+    return p.scans >= 12 || (p.estimated_coverage >= 0.95 && p.mean_density >= 0.2);
+  });
+  check_termination_conformance(nbs::SelectableTermination(params, nbs::StopRule::max_scans),
+                                [](const ModelProgress& p) { return p.scans >= 12; });
 }
 
 TEST_CASE("termination conformance can fail: a non-monotone criterion is caught", "[conformance][termination]") {
@@ -111,6 +116,21 @@ TEST_CASE("CoverageSettled: held on consecutive scans or settled within a width,
     }
   }
   CHECK(stops > 100);  // the walks exercise both branches
+  // The default termination and the run-time choice of it: the same rule, or n_abort; density from Parameters.
+  nbs::Parameters params;
+  params.max_scans = 9;
+  params.target_density = 0.3;
+  const auto def = nbs::default_termination(params);
+  const nbs::SelectableTermination chosen(params);
+  CHECK(chosen.rule == nbs::StopRule::settled);
+  const std::vector<double> flat{0.80, 0.81, 0.80};
+  for (const double d : {0.25, 0.35})
+    for (int n : {3, 9}) {
+      const ModelProgress p{n, flat.back(), d, flat};
+      const bool want = n >= 9 || (d >= 0.3 && oracle(flat, d));
+      CHECK(def.done(p) == want);
+      CHECK(chosen.done(p) == want);
+    }
   // Bad settings are refused.
   CHECK_THROWS_AS(nbs::CoverageSettled(1.5, 2, 0.75, 3, 0.03, 0.2), nbs::InvalidArgument);
   CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 0, 0.75, 3, 0.03, 0.2), nbs::InvalidArgument);

@@ -7,6 +7,7 @@
 
 #include "eval/main.hpp"  // first: includes the planner headers
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -300,6 +301,61 @@ TEST_CASE("set-up file: mesh, coverage_estimate and keep_exploring choose the pl
   CHECK(nbs::eval::with_selection_defaults(older) == today);
   nbs::eval::Json other = {{"mesh", "m.obj"}, {"setup", nbs::eval::setup_json(u)}};
   CHECK(nbs::eval::with_selection_defaults(other) == other);  // present keys stay as they are
+  // "stop_rule": the default is the settled rule; values, round trip, a bad value; an eval.json without the key was
+  // judged by the thesis's rule and reads so.
+  CHECK(d.models.stop_rule == nbs::StopRule::settled);
+  CHECK(nbs::eval::setup_json(d)["stop_rule"] == "settled");
+  for (const nbs::StopRule rule : {nbs::StopRule::settled, nbs::StopRule::thesis, nbs::StopRule::max_scans}) {
+    const std::string text = std::string(R"({"stop_rule": ")") + std::string(nbs::format_stop_rule(rule)) + "\"}";
+    const nbs::eval::Setup sr = nbs::eval::parse_setup(text, "cfg");
+    CHECK(sr.models.stop_rule == rule);
+    CHECK(nbs::eval::parse_setup(nbs::eval::setup_json(sr).dump(), "cfg").models == sr.models);
+  }
+  CHECK_THROWS_WITH(nbs::eval::parse_setup(R"({"stop_rule": "never"})", "cfg"),
+                    nbs_test::Contains("'stop_rule' must be one of settled | thesis | max_scans, got 'never'"));
+  nbs::eval::Json before_rule = today;
+  before_rule["setup"].erase("stop_rule");
+  CHECK(nbs::eval::with_selection_defaults(before_rule)["setup"]["stop_rule"] == "thesis");
+}
+
+TEST_CASE("CLI: n_s is judged by the set-up's stop rule, replayed on the recorded c_m and d_m", "[eval]") {
+  TempDir tmp("stop_rule");
+  const std::string bunny = NBS_DATA_DIR "/meshes/stanford-bunny.obj";
+  std::size_t judged = 0;
+  std::vector<int> n_s[2];
+  for (const char* rule : {"settled", "thesis"}) {
+    const fs::path setup = tmp.path / (std::string(rule) + ".json"), out = tmp.path / rule;
+    std::ofstream(setup) << R"({"stop_rule": ")" << rule << R"("})";
+    std::string log;
+    REQUIRE(run_cli({"--mesh", bunny, "--up", "y", "--size", "0.1", "--methods", "SGU_H", "--runs", "2", "--scans",
+                     "8", "--seed", "3", "--threads", "2", "--setup", setup.string(), "--out", out.string()},
+                    log) == 0);
+    INFO(rule << ": " << log);
+    for (const Json& r : lines_of(out / "runs.jsonl")) {
+      // The oracle: the rule's documented thresholds applied to every prefix of the recorded series (all scans of
+      // these runs changed the models: the history is the c_m series itself).
+      const std::vector<double> c = r["scans"]["c_m"], d = r["scans"]["d_m"];
+      REQUIRE(c.size() == 8);
+      int want = 8;
+      for (std::size_t k = 1; k <= c.size() && want == 8; ++k) {
+        bool stop = false;
+        if (std::string(rule) == "thesis") {
+          stop = c[k - 1] >= 0.8 && d[k - 1] >= 0.2;
+        } else if (d[k - 1] >= 0.2) {
+          const bool held = k >= 2 && c[k - 1] >= 0.9 && c[k - 2] >= 0.9;
+          const bool settled = k >= 3 && c[k - 1] >= 0.75 &&
+                               std::max({c[k - 1], c[k - 2], c[k - 3]}) - std::min({c[k - 1], c[k - 2], c[k - 3]}) < 0.03;
+          stop = held || settled;
+        }
+        if (stop) want = static_cast<int>(k);
+      }
+      CHECK(r["n_s"].get<int>() == want);
+      judged += want < 8 ? 1 : 0;
+      n_s[std::string(rule) == "thesis" ? 1 : 0].push_back(want);
+    }
+  }
+  CHECK(judged > 0);       // some run stops before n_abort under some rule: the replay is exercised
+  CHECK(n_s[0] != n_s[1]);  // and the two rules judge these runs differently: the key is not ignored
 }
 
 TEST_CASE("set-up file: fields by name, errors name the key", "[eval]") {

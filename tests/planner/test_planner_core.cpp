@@ -219,7 +219,7 @@ TEST_CASE("loop: same seed, same scan sequence with 1 and 2 threads; facade equa
   const nbs::SimulationSetting sim = loop_setting(3, 5);
   nbs::NbsPlanner<> p1({}, light_lsp(), sphere_box(), setting(1));
   nbs::NbsPlanner<> p2({}, light_lsp(), sphere_box(), setting(2));
-  nbs::RuntimePlanner rp("C_H", {}, light_lsp(), sphere_box(), setting(2));
+  nbs::RuntimePlanner rp(nbs::kDefaultMethod, {}, light_lsp(), sphere_box(), setting(2));
   const auto a = nbs::run_simulation(p1, sphere, sim);
   const auto b = nbs::run_simulation(p2, sphere, sim);
   const auto c = nbs::run_simulation(rp, sphere, sim);
@@ -227,6 +227,21 @@ TEST_CASE("loop: same seed, same scan sequence with 1 and 2 threads; facade equa
   CHECK(a.records[0].initial_index == nbs::random_initial_scan_index(3));
   check_same_plan(a, b);
   check_same_plan(a, c);
+  // The thesis's planner: ThesisPlanner<> equals the facade's C_H with the thesis's stop rule (d̄_m target 0: the
+  // light sphere's density stays below 0.2, and the rule is to fire here).
+  nbs::Parameters no_density;
+  no_density.target_density = 0.0;
+  nbs::ThesisPlanner<> t1(no_density, light_lsp(), sphere_box(), setting(1));
+  nbs::RuntimeModels thesis_stop;
+  thesis_stop.stop_rule = nbs::StopRule::thesis;
+  nbs::RuntimePlanner rt(nbs::kThesisMethod, no_density, light_lsp(), sphere_box(), setting(2), thesis_stop);
+  CHECK(rt.code() == "C_H");
+  CHECK(std::get<nbs::RuntimePlannerOf<nbs::SearchSpace::boundary_hole>>(rt.variant()).termination.rule ==
+        nbs::StopRule::thesis);
+  const auto ta = nbs::run_simulation(t1, sphere, sim), tb = nbs::run_simulation(rt, sphere, sim);
+  check_same_plan(ta, tb);
+  INFO("thesis loop: " << ta.records.size() << " scans, last c_m " << ta.records.back().integration.estimated_coverage);
+  CHECK(ta.stop == nbs::LoopStop::done);  // the thesis rule fired (within the 5 scans)
 }
 
 TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is deterministic over threads",
@@ -261,7 +276,7 @@ TEST_CASE("loop: the noise-robust mesh policy plans, stays consistent and is det
 
   // A StreamingMesh policy is the thesis's stream as written; given the noise-robust settings it builds the same
   // mesh as NoiseRobustStreamingMesh: the same plan, step for step.
-  using Plain = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
+  using Plain = nbs::NbsPlanner<nbs::SurfaceGainUnseenUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
                                 nbs::NoCollisions, nbs::DefaultTermination, nbs::ProbabilisticVoxelSpace<>,
                                 nbs::StreamingMesh>;
   const Plain thesis({}, light_lsp(), sphere_box(), setting(1));

@@ -25,9 +25,9 @@ using nbs::test::sphere_box;
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 using IcpPlanner = nbs::NbsPlanner<nbs::IgQualityUtility, nbs::BoundaryHoleSpace, nbs::LaserStripeProfiler,
-                                   nbs::NoCollisions, nbs::DefaultTermination, nbs::ProbabilisticVoxelSpace<>,
+                                   nbs::NoCollisions, nbs::ThesisTermination, nbs::ProbabilisticVoxelSpace<>,
                                    nbs::NoiseRobustStreamingMesh, nbs::UnseenLoopCoverage, nbs::Icp>;
-using PlainPlanner = nbs::NbsPlanner<>;
+using PlainPlanner = nbs::ThesisPlanner<>;  // IcpPlanner without registration
 
 /// light_lsp() with a constant 0.05 mm range noise: the thesis's polynomial gives σ ≈ 1 mm at 0.3 m, which leaves
 /// the one-scan model's normals 22° off on average (measured) and hides a 1.5 mm pose error in the noise.

@@ -4,8 +4,8 @@
 #include "nbs/termination/criteria.hpp"
 #include "nbs/termination/process_control.hpp"
 
-TEST_CASE("default termination: quality reached or n_abort (Sec. 4.6, Tab. 4.3)", "[termination]") {
-  const auto t = nbs::default_termination(nbs::Parameters{});
+TEST_CASE("thesis termination: quality reached or n_abort (Sec. 4.6, Tab. 4.3)", "[termination]") {
+  const auto t = nbs::thesis_termination(nbs::Parameters{});
   CHECK_FALSE(t.done({3, 0.79, 0.5}));
   CHECK_FALSE(t.done({3, 0.85, 0.19}));
   CHECK(t.done({3, 0.80, 0.20}));

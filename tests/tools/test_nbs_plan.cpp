@@ -101,7 +101,7 @@ TEST_CASE("nbs_plan replans a recorded session to the in-memory planner's next s
 
   nbs::PlannerSetting ps;
   ps.threads = 1;
-  nbs::RuntimePlanner twin(nbs::parse_method("C_H"), {}, nbs::presets::dlr_lsp(), kBox, ps);
+  nbs::RuntimePlanner twin(nbs::kDefaultMethod, {}, nbs::presets::dlr_lsp(), kBox, ps);  // nbs_plan's default
   for (const nbs::Scan& s : scans) (void)twin.integrate(s);
   const nbs::PlanResult expected = twin.next_best_scan();
   REQUIRE(expected.ok());
@@ -129,7 +129,7 @@ TEST_CASE("nbs_plan replans a recorded session to the in-memory planner's next s
     CHECK(rows >= 4);
   }
   CHECK(j.at("status") == "ok");
-  CHECK(j.at("method") == "C_H");
+  CHECK(j.at("method") == "SGU_H");
   CHECK(j.at("scans") == 2);
   CHECK(j.at("done") == twin.done());
   CHECK(j.at("mode") == std::string(nbs::to_string(expected.stats.mode)));
@@ -158,6 +158,22 @@ TEST_CASE("nbs_plan replans a recorded session to the in-memory planner's next s
     REQUIRE(h.code == 0);
     const nlohmann::json jh = nlohmann::json::parse(h.out);
     CHECK((matrix_of(jh.at("path").at("end").at("T_WF")).matrix() - end_f.matrix()).cwiseAbs().maxCoeff() < 1e-9);
+  }
+  SECTION("--method C_H --stop-rule thesis is the thesis's planner") {
+    nbs::RuntimeModels thesis_stop;
+    thesis_stop.stop_rule = nbs::StopRule::thesis;
+    nbs::RuntimePlanner c_h(nbs::kThesisMethod, {}, nbs::presets::dlr_lsp(), kBox, ps, thesis_stop);
+    for (const nbs::Scan& s : scans) (void)c_h.integrate(s);
+    const nbs::PlanResult want = c_h.next_best_scan();
+    REQUIRE(want.ok());
+    const Run t = run_plan(quoted(dir) + " --threads 1 --method C_H --stop-rule thesis");
+    INFO(t.err);
+    REQUIRE(t.code == 0);
+    const nlohmann::json jt = nlohmann::json::parse(t.out);
+    CHECK(jt.at("method") == "C_H");
+    CHECK(jt.at("done") == c_h.done());
+    CHECK(jt.at("utility").get<double>() == Approx(want.stats.best_utility).epsilon(1e-12));
+    CHECK(jt.at("utility").get<double>() != Approx(expected.stats.best_utility).epsilon(1e-6));  // not the default's
   }
   SECTION("--box instead of the session's box, same plan") {
     const Run b = run_plan(quoted(dir) + " --box=-0.06,-0.06,0,0.06,0.06,0.1");
@@ -219,6 +235,7 @@ TEST_CASE("nbs_plan: bad input exits 2 with a message and writes nothing", "[too
     expect_usage(run_plan(quoted(dir) + box + " --seed 12x"), "'12x'");
     expect_usage(run_plan(quoted(dir) + box + " --threads 0"), "--threads");
     expect_usage(run_plan(quoted(dir) + box + " --method Z_Z"), "'Z_Z'");
+    expect_usage(run_plan(quoted(dir) + box + " --stop-rule never"), "'never'");
     expect_usage(run_plan(quoted(dir) + box + " --no-such-option"), "--no-such-option");
   }
   SECTION("malformed session.json") {

@@ -134,7 +134,7 @@ inline CLI::Option* add_seed(CLI::App& app, std::uint64_t& seed) {
       ->capture_default_str();
 }
 
-/// `--method CODE`: the planning method (parse_method; default C_H).
+/// `--method CODE`: the planning method (parse_method; default SGU_H, kDefaultMethod).
 inline CLI::Option* add_method(CLI::App& app, Method& method) {
   return app
       .add_option_function<std::string>(
@@ -146,7 +146,7 @@ inline CLI::Option* add_method(CLI::App& app, Method& method) {
               throw UsageError("--method", e.what());
             }
           },
-          "planning method (default C_H): R|I|Q|C _ S|B|H (Fig. 4.19) or OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H SG_H SGU_H, or the "
+          "planning method (default SGU_H): R|I|Q|C _ S|B|H (Fig. 4.19) or OA_H UV_H RSV_H RSE_H PC_H AE_H VG_H SG_H SGU_H, or the "
           "peer planner SEE")
       ->type_name("CODE");
 }
@@ -184,11 +184,40 @@ inline CLI::Option* add_threads(CLI::App& app, unsigned& threads) {
       ->check(integer_in(1, 1024));
 }
 
-/// `--thesis-mesh`: the thesis's mesh and estimated coverage (RuntimeModels::thesis).
+/// `--thesis-mesh`: the thesis's mesh, estimated coverage and stop rule (RuntimeModels::thesis).
 inline CLI::Option* add_thesis_mesh(CLI::App& app, bool& thesis_mesh) {
   return app.add_flag("--thesis-mesh", thesis_mesh,
-                      "the thesis's mesh and estimated coverage (RuntimeModels::thesis) instead of the noise-robust "
-                      "mesh and the unknown_open estimate");
+                      "the thesis's mesh, estimated coverage and stop rule (RuntimeModels::thesis) instead of the "
+                      "noise-robust mesh, the unknown_open estimate and the settled stop rule");
+}
+
+/// `--stop-rule settled|thesis|max_scans` (nbs_model, nbs_plan): the planner's stop rule (RuntimeModels::stop_rule);
+/// unset: the settled rule, or the thesis's with --thesis-mesh. `--method C_H --stop-rule thesis` is ThesisPlanner<>.
+inline CLI::Option* add_stop_rule(CLI::App& app, std::optional<StopRule>& rule) {
+  return app
+      .add_option_function<std::string>(
+          "--stop-rule",
+          [&rule](const std::string& v) {
+            std::string list;
+            for (std::size_t i = 0; i < std::size(kStopRuleNames); ++i) {
+              if (v == kStopRuleNames[i]) {
+                rule = static_cast<StopRule>(i);
+                return;
+              }
+              list += (i ? " | " : "") + std::string(kStopRuleNames[i]);
+            }
+            throw UsageError("--stop-rule", "must be one of " + list + ", got '" + v + "'");
+          },
+          "stop rule: settled (default: ĉ_m held 0.9 on 2 scans or settled), thesis (ĉ_m >= 0.8 and d_m >= 0.2; the "
+          "default with --thesis-mesh) or max_scans (n_abort only)")
+      ->type_name("RULE");
+}
+
+/// The models of a planning run: RuntimeModels::thesis() with --thesis-mesh, else the defaults; then --stop-rule.
+[[nodiscard]] inline RuntimeModels run_models(bool thesis_mesh, const std::optional<StopRule>& stop_rule) {
+  RuntimeModels m = thesis_mesh ? RuntimeModels::thesis() : RuntimeModels{};
+  if (stop_rule) m.stop_rule = *stop_rule;
+  return m;
 }
 
 /// The object options of the simulating tools (nbs_model, nbs_diagnose): `--mesh --up --size --sensor`, into the

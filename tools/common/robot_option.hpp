@@ -98,7 +98,7 @@ struct LoadedRobot {
   setting.validate();
   return {std::move(robot), std::move(start), std::move(setting), o.transfer_retries};
 #else
-  detail::require(false, "--robot ", o.urdf,
+  nbs::detail::require(false, "--robot ", o.urdf,
                   ": this binary was built without KDL or OMPL (the nbs::kdl adapter: Debian liborocos-kdl-dev and "
                   "liburdfdom-dev; nbs::ompl: libompl-dev), so it cannot load a URDF robot and plan its transfers");
   return {AnyRobot(FreeFlyingSensor{}), {}, {}};

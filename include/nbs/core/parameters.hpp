@@ -59,8 +59,8 @@ struct Parameters {
   double incidence_cutoff_rad = 70.0 * std::numbers::pi / 180.0;  ///< beams with larger incidence are not counted.
 
   // --- Process control / termination (Sec. 4.6) -------------------------------------------------------------------
-  double target_coverage = 0.80;       ///< ĉ_m: stop when the estimated mesh coverage reaches this (Tab. 4.3).
-  double target_density = 0.20;        ///< d̄_m: ... and the mean relative point density reaches this (Tab. 4.3).
+  double target_coverage = 0.80;       ///< ĉ_m: the thesis's rule stops when the estimated coverage reaches this (Tab. 4.3).
+  double target_density = 0.20;        ///< d̄_m: ... and the mean relative density this (Tab. 4.3; also the settled rule's).
   int max_scans = 30;                  ///< n_abort: hard limit on the number of scans (Tab. 4.3).
   double mode_switch_gain = 0.01;      ///< switch BS → HR when ĉ_m grows by less than this per scan (Eq. 4.38).
 

@@ -69,14 +69,15 @@ concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSea
                           CoverageEstimator<Coverage, Mesh, Space> && RegistrationPolicy<Registration, Mesh> &&
                           RobotPolicy<Reach, Space>;
 
-/// The composed Next-Best-Scan planner. Policies, in the order users change them (defaults = the thesis's best
-/// method C_H, Tab. 4.5, with nbs's noise-robust mesh and ĉ_m):
+/// The composed Next-Best-Scan planner. Policies, in the order users change them (defaults = nbs's planner SGU_H
+/// with the settled stop rule, noise-robust mesh and ĉ_m; ThesisPlanner is the thesis's best method C_H, Tab. 4.5):
 /// - `Utility`: UtilityPolicy (public member `utility`, with a `setting`);
 /// - `Search`: CandidateSearch<Explore, Rescan> (public member `search`);
 /// - `Sensor`: LaserStripeProfiler or AreaSensor (PlannerSensor);
 /// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7;
 ///   a SpaceTrackingCollisionChecker is updated after every scan);
-/// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m and d̄_m reached, or n_abort);
+/// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m held or settled with d̄_m
+///   reached, or n_abort; ThesisTermination: ĉ_m and d̄_m reached, or n_abort);
 /// - `Space`: voxel space owned by the planner (VoxelSpace, space/concepts.hpp);
 /// - `Mesh`: surface mesh owned by the planner (PlannerMesh; NoiseRobustStreamingMesh, or StreamingMesh for the
 ///   thesis's Sec. 3.3.1);
@@ -85,8 +86,8 @@ concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSea
 ///   `registration`; NoRegistration for exact poses, Icp for a robot's pose error, Sec. 3.2.3);
 /// - `Reach`: who carries the sensor (robot_policy.hpp, public member `robot`): FreeFlying (nothing checked) or
 ///   `RobotReach<R>` (Alg. 3 keeps only candidates R can fly; the chosen one is re-checked; see next_best_scan).
-template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler,
-          class Collision = NoCollisions, class Termination = DefaultTermination,
+template <class Utility = SurfaceGainUnseenUtility, class Search = BoundaryHoleSpace,
+          class Sensor = LaserStripeProfiler, class Collision = NoCollisions, class Termination = DefaultTermination,
           class Space = ProbabilisticVoxelSpace<>, class Mesh = NoiseRobustStreamingMesh,
           class Coverage = UnseenLoopCoverage, class Registration = NoRegistration, class Reach = FreeFlying>
   requires PlannerPolicies<Utility, Search, Sensor, Collision, Termination, Space, Mesh, Coverage, Registration,
@@ -322,7 +323,7 @@ public:
     return {};
   }
 
-  /// True when the termination criterion holds for (n_s, ĉ_m, d̄_m).
+  /// True when the termination criterion holds for progress() (n_s, ĉ_m, d̄_m, the ĉ_m history).
   [[nodiscard]] bool done() const { return termination.done(progress()); }
 
   /// A first scan path (Sec. 4.1, 4.7.2): one of the 13 initial paths around the bounding box of the unknown area,
@@ -595,17 +596,22 @@ private:
   IterationStats last_stats_{};
 };
 
-/// `NbsPlanner<>` (C_H, its default models) planning for the Robot R: set
-/// `planner.robot = RobotReach<R>(r, q_start)`.
+/// `NbsPlanner<>` (its default policies) planning for the Robot R: set `planner.robot = RobotReach<R>(r, q_start)`.
 template <Robot R>
-using RobotPlanner = NbsPlanner<IgQualityUtility, BoundaryHoleSpace, LaserStripeProfiler, NoCollisions,
+using RobotPlanner = NbsPlanner<SurfaceGainUnseenUtility, BoundaryHoleSpace, LaserStripeProfiler, NoCollisions,
                                 DefaultTermination, ProbabilisticVoxelSpace<>, NoiseRobustStreamingMesh,
                                 UnseenLoopCoverage, NoRegistration, RobotReach<R>>;
 
-/// C_H (or another utility / search / sensor) with the thesis's mesh and ĉ_m as written (Secs. 3.3.1, 4.4):
-/// StreamingMesh and ThesisCoverage. Use both together: the unseen-loop forms are meaningless on the layered mesh.
+/// The thesis's best method C_H (Tab. 4.5): IG/Quality selection and the thesis's stop rule, with nbs's noise-robust
+/// mesh and ĉ_m (the planner NbsPlanner<> was until issue 18).
 template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler>
-using ThesisMeshPlanner = NbsPlanner<Utility, Search, Sensor, NoCollisions, DefaultTermination,
+using ThesisPlanner = NbsPlanner<Utility, Search, Sensor, NoCollisions, ThesisTermination>;
+
+/// C_H (or another utility / search / sensor) with the thesis's stop rule, mesh and ĉ_m as written (Secs. 3.3.1,
+/// 4.4, 4.6): StreamingMesh and ThesisCoverage. Use both together: the unseen-loop forms are meaningless on the
+/// layered mesh.
+template <class Utility = IgQualityUtility, class Search = BoundaryHoleSpace, class Sensor = LaserStripeProfiler>
+using ThesisMeshPlanner = NbsPlanner<Utility, Search, Sensor, NoCollisions, ThesisTermination,
                                      ProbabilisticVoxelSpace<>, StreamingMesh, ThesisCoverage>;
 
 }  // namespace nbs

@@ -41,16 +41,20 @@ enum class SearchSpace : std::uint8_t { sphere, boundary, boundary_hole, surface
   return "?";
 }
 
-/// A planning method: selection criterion × search space. SEE (search surface_edge) selects by its own rule
-/// (NearestViewUtility); its `selection` is unused and stays at the default.
+/// A planning method: selection criterion × search space; the default is nbs's SGU_H. SEE (search surface_edge)
+/// selects by its own rule (NearestViewUtility); its `selection` is unused and stays at the default.
 struct Method {
-  Selection selection = Selection::ig_quality;
+  Selection selection = Selection::surface_gain_unseen;
   SearchSpace search = SearchSpace::boundary_hole;
   friend constexpr bool operator==(const Method&, const Method&) = default;
 };
 
-/// The SEE peer planner.
-inline constexpr Method kSeeMethod{Selection::ig_quality, SearchSpace::surface_edge};
+/// The SEE peer planner (selection: Method's default, unused).
+inline constexpr Method kSeeMethod{Method{}.selection, SearchSpace::surface_edge};
+
+/// nbs's default method SGU_H (issue 18) and the thesis's best, C_H (Tab. 4.5).
+inline constexpr Method kDefaultMethod{Selection::surface_gain_unseen, SearchSpace::boundary_hole};
+inline constexpr Method kThesisMethod{Selection::ig_quality, SearchSpace::boundary_hole};
 
 /// The 12 thesis methods (R, I, Q, C × S, B, H), the 7 peer metrics and surface gain SG, SGU (ours) with BS+HR, then
 /// the peer planner SEE.
@@ -101,11 +105,12 @@ template <SearchSpace S>
 using RuntimeUtility = std::conditional_t<S == SearchSpace::surface_edge, NearestViewUtility, SelectionUtility>;
 template <SearchSpace S>
 using RuntimePlannerOf = NbsPlanner<RuntimeUtility<S>, RuntimeSearch<S>, LaserStripeProfiler, NoCollisions,
-                                    DefaultTermination, ProbabilisticVoxelSpace<>, StreamingMesh, SelectableCoverage,
+                                    SelectableTermination, ProbabilisticVoxelSpace<>, StreamingMesh, SelectableCoverage,
                                     SelectableRegistration, RobotReach<AnyRobot>>;
 
-/// The choices that are policy types in NbsPlanner but run-time values in the facade: the mesh's settings and the
-/// form of ĉ_m. Default: NbsPlanner<>'s (NoiseRobustStreamingMesh, UnseenLoopCoverage with the enclosure test).
+/// The choices that are policy types in NbsPlanner but run-time values in the facade: the mesh's settings, the
+/// form of ĉ_m and the stop rule. Default: NbsPlanner<>'s (NoiseRobustStreamingMesh, UnseenLoopCoverage with the
+/// enclosure test, SettledTermination).
 struct RuntimeModels {
   /// NoiseRobustStreamingMesh's settings (true): one layer of vertices under range noise instead of a slab, half
   /// the vertices, vertex RMS error 0.66 mm instead of 1.07 mm on the bunny, ≈ 2.6–2.9× the points per second.
@@ -114,8 +119,17 @@ struct RuntimeModels {
   /// The ĉ_m form (SelectableCoverage; the unseen forms are made for the noise-robust mesh, and with the thesis
   /// form the noise-robust mesh never reaches ĉ_m 0.8 on the bunny: one layer leaves few small loops).
   CoverageEstimate coverage_estimate = CoverageEstimate::unknown_open;
-  /// The thesis's mesh and ĉ_m (Secs. 3.3.1, 4.4) together: the unseen forms are meaningless on the layered mesh.
-  [[nodiscard]] static RuntimeModels thesis() { return {false, CoverageEstimate::thesis}; }
+  /// The stop rule (SelectableTermination; its thresholds come from Parameters).
+  StopRule stop_rule = StopRule::settled;
+  /// The thesis's mesh, ĉ_m and stop rule (Secs. 3.3.1, 4.4, 4.6) together: the unseen forms are meaningless on the
+  /// layered mesh.
+  [[nodiscard]] static RuntimeModels thesis() {
+    RuntimeModels m;
+    m.noise_robust_mesh = false;
+    m.coverage_estimate = CoverageEstimate::thesis;
+    m.stop_rule = StopRule::thesis;
+    return m;
+  }
   /// The registration step before each scan is integrated (SelectableRegistration): none (exact poses) or the
   /// thesis's ICP (Sec. 3.2.3) with `icp`.
   RegistrationMethod registration = RegistrationMethod::none;
@@ -132,6 +146,7 @@ struct RuntimeModels {
 };
 
 /// A planner whose method is chosen at run time. Same API and guarantees as NbsPlanner (LSP sensor, default space,
+/// termination chosen by RuntimeModels::stop_rule,
 /// mesh, termination, infinite workspace). Not copyable (owns the models); movable.
 class RuntimePlanner {
 public:
@@ -223,6 +238,7 @@ private:
       p.utility.setting.options = models.selection;
     }
     p.coverage.setting.form = models.coverage_estimate;
+    p.termination.rule = models.stop_rule;
     p.registration = SelectableRegistration{models.registration, models.icp};
     return v;
   }

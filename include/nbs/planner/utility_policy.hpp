@@ -83,6 +83,8 @@ using RandomUtility = FixedSelection<Selection::random>;              ///< R: se
 using InformationGainUtility = FixedSelection<Selection::information_gain>;  ///< I: ω = 0 in Eq. (4.30)
 using QualityUtility = FixedSelection<Selection::quality>;            ///< Q: ω = 1
 using IgQualityUtility = FixedSelection<Selection::ig_quality>;       ///< C: ω(n_s), Eqs. (4.30)–(4.31)
+/// SGU (ours, issue 18): surface gain plus the missing surface ĉ_m locates (utility/unseen_surface.hpp); the default.
+using SurfaceGainUnseenUtility = FixedSelection<Selection::surface_gain_unseen>;
 
 /// SEE's selection (Border & Gammell; the peer method SEE): the view nearest to the sensor's current position.
 /// Value of path i = −‖start_i − ctx.sensor_position‖ (metres; the sensor flies to the path's start), so the

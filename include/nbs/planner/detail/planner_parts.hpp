@@ -54,12 +54,14 @@ void apply_flush_setting(Space& space, const BlockFlushSetting& flush) {
   }
 }
 
-/// The termination criterion from Parameters: DefaultTermination by default_termination(params), else
-/// Termination(params) if that exists, else Termination{}.
+/// The termination criterion from Parameters: SettledTermination / ThesisTermination by settled_termination /
+/// thesis_termination(params), else Termination(params) if that exists, else Termination{}.
 template <class Termination>
 [[nodiscard]] Termination make_termination(const Parameters& params) {
-  if constexpr (std::same_as<Termination, DefaultTermination>) {
-    return default_termination(params);
+  if constexpr (std::same_as<Termination, SettledTermination>) {
+    return settled_termination(params);
+  } else if constexpr (std::same_as<Termination, ThesisTermination>) {
+    return thesis_termination(params);
   } else if constexpr (std::constructible_from<Termination, const Parameters&>) {
     return Termination(params);
   } else {
