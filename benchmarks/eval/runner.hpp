@@ -11,7 +11,6 @@
 #include "nbs/planner/simulation_loop.hpp"
 
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <numbers>
 #include <string>
@@ -78,9 +77,9 @@ struct RunContext {
   params.max_scans = ctx.n_abort;
   RuntimePlanner planner(m, params, ctx.sensor, ctx.unknown_area, setting, ctx.models);
   if (ctx.robot) planner.set_robot(ctx.robot->robot, ctx.robot->start, ctx.robot->setting);
-  // Keep planning after the quality criterion holds (Sec. 4.7.2: "we do not abort the algorithm after n_s"):
-  // the planner's own coverage criterion is made unreachable; n_s is judged below with the real targets.
-  // The set-up's stop rule judges n_s below, on the planner's own progress (ĉ_m history included).
+  // Keep planning after the stop rule holds (Sec. 4.7.2: "we do not abort the algorithm after n_s"): the planner
+  // itself stops only at n_abort; the set-up's stop rule judges n_s below, on the planner's own progress (ĉ_m
+  // history included).
   const SelectableTermination quality(params, ctx.models.stop_rule);
   std::visit([&](auto& p) { p.termination = SelectableTermination(params, StopRule::max_scans); }, planner.variant());
   // The scans go through the pose-error decorator (zero error without --pose-error: bit-identical scans).

@@ -19,6 +19,13 @@ TEST_CASE("thesis termination: quality reached or n_abort (Sec. 4.6, Tab. 4.3)",
   CHECK_THROWS_AS(nbs::MaxScansReached(0), nbs::InvalidArgument);
 }
 
+TEST_CASE("stop rule names: parse is format's inverse, an unknown name is refused naming it", "[termination]") {
+  for (const nbs::StopRule r : {nbs::StopRule::settled, nbs::StopRule::thesis, nbs::StopRule::max_scans})
+    CHECK(nbs::parse_stop_rule(nbs::format_stop_rule(r)) == r);
+  CHECK_THROWS_WITH(nbs::parse_stop_rule("never"), nbs_test::Contains("'never'"));
+  CHECK_THROWS_AS(nbs::parse_stop_rule("Thesis"), nbs::InvalidArgument);
+}
+
 TEST_CASE("process control switches to Hole Rescan once when coverage gain < 1 % (Eq. 4.38)", "[termination]") {
   nbs::ProcessControl pc;
   CHECK(pc.update(0.30) == nbs::SearchMode::BoundarySearch);  // first scan: no previous value

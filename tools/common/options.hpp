@@ -198,15 +198,11 @@ inline CLI::Option* add_stop_rule(CLI::App& app, std::optional<StopRule>& rule) 
       .add_option_function<std::string>(
           "--stop-rule",
           [&rule](const std::string& v) {
-            std::string list;
-            for (std::size_t i = 0; i < std::size(kStopRuleNames); ++i) {
-              if (v == kStopRuleNames[i]) {
-                rule = static_cast<StopRule>(i);
-                return;
-              }
-              list += (i ? " | " : "") + std::string(kStopRuleNames[i]);
+            try {
+              rule = parse_stop_rule(v);
+            } catch (const InvalidArgument& e) {
+              throw UsageError("--stop-rule", e.what());
             }
-            throw UsageError("--stop-rule", "must be one of " + list + ", got '" + v + "'");
           },
           "stop rule: settled (default: ĉ_m held 0.9 on 2 scans or settled), thesis (ĉ_m >= 0.8 and d_m >= 0.2; the "
           "default with --thesis-mesh) or max_scans (n_abort only)")

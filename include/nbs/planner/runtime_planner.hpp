@@ -52,8 +52,8 @@ struct Method {
 /// The SEE peer planner (selection: Method's default, unused).
 inline constexpr Method kSeeMethod{Method{}.selection, SearchSpace::surface_edge};
 
-/// nbs's default method SGU_H (issue 18) and the thesis's best, C_H (Tab. 4.5).
-inline constexpr Method kDefaultMethod{Selection::surface_gain_unseen, SearchSpace::boundary_hole};
+/// nbs's default method SGU_H (issue 18: Method{}) and the thesis's best, C_H (Tab. 4.5).
+inline constexpr Method kDefaultMethod{};
 inline constexpr Method kThesisMethod{Selection::ig_quality, SearchSpace::boundary_hole};
 
 /// The 12 thesis methods (R, I, Q, C × S, B, H), the 7 peer metrics and surface gain SG, SGU (ours) with BS+HR, then

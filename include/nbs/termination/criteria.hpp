@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <concepts>
 #include <cstddef>
+#include <iterator>
 #include <span>
 #include <string_view>
 #include <tuple>
@@ -124,12 +125,17 @@ using ThesisTermination = AnyOf<CoverageAndDensityReached, MaxScansReached>;
 /// scans. Chosen on 10 objects, held out on 5 (docs/evaluation.md, "The default planner").
 using SettledTermination = AnyOf<CoverageSettled, MaxScansReached>;
 
-/// Builds nbs's rule from parameters (target_density, max_scans; target_coverage is the thesis rule's and unused).
-[[nodiscard]] inline SettledTermination settled_termination(const Parameters& p) {
+/// CoverageSettled with its defaults and d̄_m ≥ p.target_density. Throws InvalidArgument for invalid parameters.
+[[nodiscard]] inline CoverageSettled settled_criterion(const Parameters& p) {
   p.validate();
   CoverageSettled settled;
   settled.density = p.target_density;
-  return SettledTermination{{settled, MaxScansReached(p.max_scans)}};
+  return settled;
+}
+
+/// Builds nbs's rule from parameters (target_density, max_scans; target_coverage is the thesis rule's and unused).
+[[nodiscard]] inline SettledTermination settled_termination(const Parameters& p) {
+  return SettledTermination{{settled_criterion(p), MaxScansReached(p.max_scans)}};
 }
 
 /// The default planner's termination (NbsPlanner<>): SettledTermination.
@@ -150,6 +156,13 @@ inline constexpr std::string_view kStopRuleNames[] = {"settled", "thesis", "max_
   return kStopRuleNames[static_cast<std::size_t>(r)];
 }
 
+/// Parses a StopRule name (kStopRuleNames); throws InvalidArgument naming the value and the valid names otherwise.
+[[nodiscard]] inline StopRule parse_stop_rule(std::string_view s) {
+  for (std::size_t i = 0; i < std::size(kStopRuleNames); ++i)
+    if (s == kStopRuleNames[i]) return static_cast<StopRule>(i);
+  throw InvalidArgument(detail::concat("unknown stop rule '", s, "'; valid: settled, thesis, max_scans"));
+}
+
 /// A stop rule chosen at run time; every rule also stops after max_scans. Each rule's criterion keeps its own
 /// settings (public, as in the composed rules).
 struct SelectableTermination {
@@ -161,7 +174,7 @@ struct SelectableTermination {
   /// The rule `r` with the thresholds of `p` (as settled_termination / thesis_termination). Throws InvalidArgument
   /// for invalid parameters.
   explicit SelectableTermination(const Parameters& p, StopRule r = StopRule::settled)
-      : rule(r), settled(std::get<0>(settled_termination(p).criteria)), thesis(p), max_scans(p.max_scans) {}
+      : rule(r), settled(settled_criterion(p)), thesis(p), max_scans(p.max_scans) {}
   [[nodiscard]] bool done(const ModelProgress& p) const {
     if (max_scans.done(p)) return true;
     switch (rule) {
