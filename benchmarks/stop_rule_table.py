@@ -11,7 +11,7 @@ usage: benchmarks/stop_rule_table.py [--method C_H] [--dir default-20runs] MESH.
 MESH = a folder of docs/eval, e.g. stanford-bunny spot teapot fandisk rocker-arm, or any nbs_eval output directory)
 
 Rules: ĉ_m >= t (after one scan, or on 2 consecutive scans: a single high ĉ_m after a view whose loops' fans lie on
-its own surface does not stop), and the ĉ_m gain over w scans below a floor. Runs whose records stop before n_abort
+its own surface does not stop), the ĉ_m gain over w scans below a floor, and the settled rules (CoverageSettled). Runs whose records stop before n_abort
 (no candidates left) are skipped. Also printed per rule: how many runs stop within 2 scans of k99 (ok), before
 (early) or after (late), and how many run to n_abort although c_a reached 0.99 c_obs (runaway).
 """
@@ -50,17 +50,21 @@ def stagnation_rule(window, delta, floor=0.8, density=0.2):
     return stop
 
 
-def settled_rule(th, floor, window, delta, density=0.2):
-    """ĉ_m >= th on 2 consecutive scans, or ĉ_m >= floor and within delta over the last window + 1 scans."""
+def settled_rule(th, floor, window, delta, density=0.2, stall_floor=None, stall_window=5):
+    """ĉ_m >= th on 2 consecutive scans, or ĉ_m >= floor and within delta over the last window + 1 scans, or (with
+    stall_floor) ĉ_m >= stall_floor and within delta over the last stall_window scans (CoverageSettled)."""
+    def still(c, i, level, w):  # w values ending at scan i + 1
+        return i + 1 >= w and c[i] >= level and max(c[i - w + 1:i + 1]) - min(c[i - w + 1:i + 1]) < delta
+
     def stop(r):
         c, d = r["scans"]["c_m"], r["scans"]["d_m"]
         held = 0
         for i in range(len(c)):
             held = held + 1 if c[i] >= th else 0
-            if held >= 2 and d[i] >= density:  # the density now, as CoverageSettled
-                return i + 1
-            if i >= window and c[i] >= floor and d[i] >= density and \
-                    max(c[i - window:i + 1]) - min(c[i - window:i + 1]) < delta:
+            if d[i] < density:  # the density now, as CoverageSettled
+                continue
+            if held >= 2 or still(c, i, floor, window + 1) or \
+                    (stall_floor is not None and still(c, i, stall_floor, stall_window)):
                 return i + 1
         return r["n_abort"]
     return stop
@@ -89,7 +93,9 @@ def main():
     rules += [(f"ĉ_m ≥ {th} on 2 consecutive scans", threshold_rule(th, consecutive=2)) for th in (0.8, 0.9, 0.93)]
     rules += [(f"ĉ_m gain over {w} scans < {dl}", stagnation_rule(w, dl)) for w in (2, 3) for dl in (0.005, 0.01)]
     rules += [("ĉ_m ≥ 0.9 on 2 consecutive scans, or ≥ 0.75 and within 0.03 over 3 scans",
-               settled_rule(0.9, 0.75, 2, 0.03))]
+               settled_rule(0.9, 0.75, 2, 0.03)),
+              ("the same, or ≥ 0.5 and within 0.03 over 5 scans (CoverageSettled, the default)",
+               settled_rule(0.9, 0.75, 2, 0.03, stall_floor=0.5))]
     for name, rule in rules:
         cells = []
         for R in runs.values():

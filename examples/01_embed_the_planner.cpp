@@ -64,7 +64,7 @@ int main() {
   try {
     // ---- The planner-facing part: what you copy. -------------------------------------------------------------------
     const nbs::Aabb unknown_area{nbs::Vec3(-0.06, -0.06, 0.0), nbs::Vec3(0.06, 0.06, 0.11)};  // encloses the object
-    nbs::Parameters params;  // Tab. 4.3; stop when ĉ_m held 0.9 or settled with d̄_m ≥ 0.2, or after n_abort scans
+    nbs::Parameters params;  // Tab. 4.3; stop when ĉ_m held 0.9, settled or stalled, d̄_m ≥ 0.2; or after n_abort scans
     params.max_scans = 15;
     nbs::NbsPlanner<> planner(params, nbs::presets::dlr_lsp(), unknown_area);
     nbs::LinearScanPath path = planner.first_scan(/*seed*/ 1);  // or any path of yours that sees the object

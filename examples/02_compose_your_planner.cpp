@@ -22,7 +22,7 @@ using Planner = nbs::NbsPlanner<nbs::SurfaceGainUnseenUtility,   // SGU: surface
                                 nbs::BoundaryHoleSpace,          // Boundary Search, then Hole Rescan (Sec. 4.6)
                                 nbs::LaserStripeProfiler,        // the sensor (or nbs::AreaSensor)
                                 nbs::NoCollisions,               // infinite robot workspace (Sec. 4.7)
-                                nbs::DefaultTermination,         // ĉ_m held ≥ 0.9 or settled, d̄_m ≥ 20 %, or n_abort
+                                nbs::DefaultTermination,         // ĉ_m held ≥ 0.9, settled or stalled, d̄_m ≥ 20 %, or n_abort
                                 nbs::ProbabilisticVoxelSpace<>,  // PVS, thesis sensor model (Sec. 3.3.2)
                                 nbs::NoiseRobustStreamingMesh,   // streaming mesh (Sec. 3.3.1), noise-robust options
                                 nbs::UnseenLoopCoverage>;        // ĉ_m (Eq. 4.35) over the unseen share of every loop

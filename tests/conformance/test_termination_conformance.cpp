@@ -69,53 +69,72 @@ TEST_CASE("termination conformance can fail: a non-monotone criterion is caught"
   CHECK(violated);
 }
 
-TEST_CASE("CoverageSettled: held on consecutive scans or settled within a width, against a brute-force replay",
+TEST_CASE("CoverageSettled: held on consecutive scans, settled or stalled within a width, against a brute-force "
+          "replay",
           "[conformance][termination]") {
   using nbs::ModelProgress;
   // On the grid there is no history: never done (and the criterion is not monotone, it reads the history).
   nbs::conformance::check_termination_conformance(nbs::CoverageSettled{}, [](const ModelProgress&) { return false; },
                                                   false);
   // The oracle: the rule of benchmarks/stop_rule_table.py's settled_rule, per prefix of a ĉ_m sequence — held
-  // (≥ 0.9 on the last 2 scans) or settled (last ≥ 0.75, the last 3 within 0.03), density ≥ 0.2.
-  const auto oracle = [](const std::vector<double>& h, double density) {
+  // (≥ 0.9 on the last 2 scans), settled (last ≥ 0.75, the last 3 within 0.03) or stalled (last ≥ 0.5, the last 5
+  // within 0.03), density ≥ 0.2.
+  const auto still = [](const std::vector<double>& h, double level, std::size_t w) {
+    const std::size_t n = h.size();
+    if (n < w || h[n - 1] < level) return false;
+    double lo = 1.0, hi = 0.0;
+    for (std::size_t i = n - w; i < n; ++i) lo = std::min(lo, h[i]), hi = std::max(hi, h[i]);
+    return hi - lo < 0.03;
+  };
+  const auto oracle = [&](const std::vector<double>& h, double density) {
     const std::size_t n = h.size();
     if (density < 0.2 || n == 0) return false;
     if (n >= 2 && h[n - 1] >= 0.9 && h[n - 2] >= 0.9) return true;
-    if (n < 3 || h[n - 1] < 0.75) return false;
-    double lo = 1.0, hi = 0.0;
-    for (std::size_t i = n - 3; i < n; ++i) lo = std::min(lo, h[i]), hi = std::max(hi, h[i]);
-    return hi - lo < 0.03;
+    return still(h, 0.75, 3) || still(h, 0.5, 5);
   };
   const nbs::CoverageSettled rule;
-  // Hand cases: one high value does not stop; two do; a plateau above the floor does; one below it does not.
+  // Hand cases: one high value does not stop; two do; a plateau above the floor does; one below it does not unless
+  // it lasts 5 scans above the stall floor.
   const std::vector<std::pair<std::vector<double>, bool>> cases{
-      {{0.95}, false},           {{0.5, 0.95}, false},        {{0.91, 0.95}, true},  {{0.78, 0.79, 0.80}, true},
-      {{0.70, 0.72, 0.71}, false}, {{0.76, 0.80, 0.78}, false}, {{0.2, 0.8, 0.81, 0.79}, true}};
+      {{0.95}, false},
+      {{0.5, 0.95}, false},
+      {{0.91, 0.95}, true},
+      {{0.78, 0.79, 0.80}, true},
+      {{0.70, 0.72, 0.71}, false},
+      {{0.76, 0.80, 0.78}, false},
+      {{0.2, 0.8, 0.81, 0.79}, true},
+      {{0.70, 0.71, 0.70, 0.72, 0.71}, true},
+      {{0.62, 0.70, 0.71, 0.70, 0.72, 0.71}, true},
+      {{0.66, 0.71, 0.70, 0.72, 0.71}, false},
+      {{0.46, 0.47, 0.46, 0.47, 0.46}, false}};
   for (const auto& [h, expected] : cases) {
     INFO("history of " << h.size() << ", last " << h.back());
     CHECK(rule.done(ModelProgress{static_cast<int>(h.size()), h.back(), 0.5, h}) == expected);
     CHECK(rule.done(ModelProgress{static_cast<int>(h.size()), h.back(), 0.1, h}) == false);  // density not reached
   }
-  // Random ĉ_m walks: every prefix against the oracle.
+  // Random ĉ_m walks, rising (step 0.08) and creeping (step 0.02): every prefix against the oracle.
   std::uint64_t state = 7;
   const auto uniform = [&] {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
     return static_cast<double>(state >> 11) * 0x1.0p-53;
   };
-  std::size_t stops = 0;
-  for (int walk = 0; walk < 500; ++walk) {
+  std::size_t stops = 0, stalls = 0;
+  for (int walk = 0; walk < 1000; ++walk) {
     std::vector<double> h;
     double c = uniform();
+    const double step = walk % 2 == 0 ? 0.08 : 0.02;
     for (int k = 0; k < 12; ++k) {
-      c = std::clamp(c + 0.08 * (uniform() - 0.4), 0.0, 1.0);
+      c = std::clamp(c + step * (uniform() - 0.4), 0.0, 1.0);
       h.push_back(c);
       const double d = uniform() < 0.1 ? 0.1 : 0.5;
       const bool got = rule.done(ModelProgress{static_cast<int>(h.size()), c, d, h});
       REQUIRE(got == oracle(h, d));
       stops += got ? 1 : 0;
+      stalls += got && c < 0.75 ? 1 : 0;
     }
   }
-  CHECK(stops > 100);  // the walks exercise both branches
+  CHECK(stops > 100);  // the walks exercise every arm
+  CHECK(stalls > 20);
   // The default termination and the run-time choice of it: the same rule, or n_abort; density from Parameters.
   nbs::Parameters params;
   params.max_scans = 9;
@@ -136,4 +155,7 @@ TEST_CASE("CoverageSettled: held on consecutive scans or settled within a width,
   CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 0, 0.75, 3, 0.03, 0.2), nbs::InvalidArgument);
   CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 2, 0.75, 1, 0.03, 0.2), nbs::InvalidArgument);
   CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 2, 0.75, 3, -0.1, 0.2), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 2, 0.75, 3, 0.03, 0.2, 1.5, 5), nbs::InvalidArgument);
+  CHECK_THROWS_AS(nbs::CoverageSettled(0.9, 2, 0.75, 3, 0.03, 0.2, 0.5, 1), nbs::InvalidArgument);
+  CHECK_NOTHROW(nbs::CoverageSettled(0.9, 2, 0.75, 3, 0.03, 0.2, 0.5, 2));
 }

@@ -342,10 +342,15 @@ TEST_CASE("CLI: n_s is judged by the set-up's stop rule, replayed on the recorde
         if (std::string(rule) == "thesis") {
           stop = c[k - 1] >= 0.8 && d[k - 1] >= 0.2;
         } else if (d[k - 1] >= 0.2) {
+          // Held (≥ 0.9 twice), settled (≥ 0.75, the last 3 within 0.03) or stalled (≥ 0.5, the last 5 within 0.03).
+          const auto still = [&](double level, std::size_t w) {
+            if (k < w || c[k - 1] < level) return false;
+            const auto [lo, hi] = std::minmax_element(c.begin() + static_cast<std::ptrdiff_t>(k - w),
+                                                      c.begin() + static_cast<std::ptrdiff_t>(k));
+            return *hi - *lo < 0.03;
+          };
           const bool held = k >= 2 && c[k - 1] >= 0.9 && c[k - 2] >= 0.9;
-          const bool settled = k >= 3 && c[k - 1] >= 0.75 &&
-                               std::max({c[k - 1], c[k - 2], c[k - 3]}) - std::min({c[k - 1], c[k - 2], c[k - 3]}) < 0.03;
-          stop = held || settled;
+          stop = held || still(0.75, 3) || still(0.5, 5);
         }
         if (stop) want = static_cast<int>(k);
       }

@@ -204,7 +204,7 @@ inline CLI::Option* add_stop_rule(CLI::App& app, std::optional<StopRule>& rule) 
               throw UsageError("--stop-rule", e.what());
             }
           },
-          "stop rule: settled (default: ĉ_m held 0.9 on 2 scans or settled), thesis (ĉ_m >= 0.8 and d_m >= 0.2; the "
+          "stop rule: settled (default: ĉ_m held 0.9 on 2 scans, settled or stalled), thesis (ĉ_m >= 0.8 and d_m >= 0.2; the "
           "default with --thesis-mesh) or max_scans (n_abort only)")
       ->type_name("RULE");
 }

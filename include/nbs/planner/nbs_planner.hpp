@@ -76,7 +76,7 @@ concept PlannerPolicies = VoxelSpace<Space> && PlannerMesh<Mesh> && CandidateSea
 /// - `Sensor`: LaserStripeProfiler or AreaSensor (PlannerSensor);
 /// - `Collision`: CollisionChecker for Alg. 3 (public member `collision`; default: infinite free workspace, Sec. 4.7;
 ///   a SpaceTrackingCollisionChecker is updated after every scan);
-/// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m held or settled with d̄_m
+/// - `Termination`: TerminationCriterion (public member `termination`; default: ĉ_m held, settled or stalled with d̄_m
 ///   reached, or n_abort; ThesisTermination: ĉ_m and d̄_m reached, or n_abort);
 /// - `Space`: voxel space owned by the planner (VoxelSpace, space/concepts.hpp);
 /// - `Mesh`: surface mesh owned by the planner (PlannerMesh; NoiseRobustStreamingMesh, or StreamingMesh for the

@@ -58,12 +58,15 @@ struct MaxScansReached {
 };
 
 /// Stop when ĉ_m has held `held` for `held_scans` consecutive scans, or has settled: ĉ_m ≥ `floor` and its last
-/// `window` values (ModelProgress::coverage_history) lie within `width`; both with the current d̄_m ≥ `density`.
-/// Never done without history or with held_scans < 1 or window < 2 (the constructor refuses those). Not monotone in
-/// (n_s, ĉ_m, d̄_m): it reads the history. Ours (issue 18; docs/evaluation.md, "stop rules with SGU"): ĉ_m ≥ 0.8 after
-/// one scan stops 4–26 scans before the truth reaches 0.99 c_obs on most meshes, a higher threshold never stops on
-/// objects whose ĉ_m levels off lower (a mug's cavity). The defaults were picked on 10 objects with SGU_H and held
-/// out on 5 more; the default planner's stop (SettledTermination).
+/// `window` values (ModelProgress::coverage_history) lie within `width`, or has stalled: ĉ_m ≥ `stall_floor` and its
+/// last `stall_window` values lie within `width`; each with the current d̄_m ≥ `density`. Never done without history;
+/// held_scans < 1 or a window < 2 (the constructors refuse them) switch that arm off. Not monotone in (n_s, ĉ_m, d̄_m):
+/// it reads the history. Ours (issue 18; docs/evaluation.md, "stop rules with SGU"): ĉ_m ≥ 0.8 after one scan stops
+/// 4–26 scans before the truth reaches 0.99 c_obs on most meshes, a higher threshold never stops on objects whose ĉ_m
+/// levels off lower (a mug's cavity). The stall arm stops a run whose ĉ_m stays low while no scan moves it (fandisk:
+/// ĉ_m 0.67–0.74 from scan 9 to 30, c_a at 0.99 c_obs from scan 13, which the other arms let run to n_abort): the lower
+/// the level, the longer it must be still. The defaults were picked on 10 objects with SGU_H and held out on 5 more;
+/// the default planner's stop (SettledTermination).
 struct CoverageSettled {
   double held = 0.9;
   int held_scans = 2;
@@ -71,25 +74,41 @@ struct CoverageSettled {
   int window = 3;
   double width = 0.03;
   double density = 0.20;
+  double stall_floor = 0.5;
+  int stall_window = 5;
   CoverageSettled() = default;
+  /// The held and settled arms as given, the stall arm at its defaults.
   CoverageSettled(double held_, int held_scans_, double floor_, int window_, double width_, double density_)
-      : held(held_), held_scans(held_scans_), floor(floor_), window(window_), width(width_), density(density_) {
+      : CoverageSettled(held_, held_scans_, floor_, window_, width_, density_, CoverageSettled{}.stall_floor,
+                        CoverageSettled{}.stall_window) {}
+  /// Every arm as given. Throws InvalidArgument naming the value for a level outside [0, 1], held_scans < 1 or a
+  /// window < 2.
+  CoverageSettled(double held_, int held_scans_, double floor_, int window_, double width_, double density_,
+                  double stall_floor_, int stall_window_)
+      : held(held_), held_scans(held_scans_), floor(floor_), window(window_), width(width_), density(density_),
+        stall_floor(stall_floor_), stall_window(stall_window_) {
     detail::require_in_range("CoverageSettled::held", held, 0.0, 1.0);
     detail::require(held_scans >= 1, "CoverageSettled::held_scans must be >= 1, got ", held_scans);
     detail::require_in_range("CoverageSettled::floor", floor, 0.0, 1.0);
     detail::require(window >= 2, "CoverageSettled::window must be >= 2, got ", window);
     detail::require_in_range("CoverageSettled::width", width, 0.0, 1.0);
     detail::require_in_range("CoverageSettled::density", density, 0.0, 1.0);
+    detail::require_in_range("CoverageSettled::stall_floor", stall_floor, 0.0, 1.0);
+    detail::require(stall_window >= 2, "CoverageSettled::stall_window must be >= 2, got ", stall_window);
   }
   [[nodiscard]] bool done(const ModelProgress& p) const {
     const auto h = p.coverage_history;
-    if (!(p.mean_density >= density) || h.empty() || held_scans < 1 || window < 2) return false;  // fields are public
+    if (!(p.mean_density >= density) || h.empty()) return false;
     const auto n = static_cast<std::ptrdiff_t>(h.size());
-    if (n >= held_scans && std::all_of(h.end() - held_scans, h.end(), [&](double c) { return c >= held; }))
+    if (held_scans >= 1 && n >= held_scans &&
+        std::all_of(h.end() - held_scans, h.end(), [&](double c) { return c >= held; }))
       return true;
-    if (n < window || !(h.back() >= floor)) return false;
-    const auto [lo, hi] = std::minmax_element(h.end() - window, h.end());
-    return *hi - *lo < width;
+    const auto still = [&](double level, int w) {  // ĉ_m ≥ level, the last w values within width (w: public field)
+      if (w < 2 || n < w || !(h.back() >= level)) return false;
+      const auto [lo, hi] = std::minmax_element(h.end() - w, h.end());
+      return *hi - *lo < width;
+    };
+    return still(floor, window) || still(stall_floor, stall_window);
   }
 };
 
@@ -121,8 +140,8 @@ using ThesisTermination = AnyOf<CoverageAndDensityReached, MaxScansReached>;
   return ThesisTermination{{CoverageAndDensityReached(p), MaxScansReached(p.max_scans)}};
 }
 
-/// nbs's rule (issue 18): ĉ_m held or settled (CoverageSettled with its defaults and d̄_m ≥ target_density), or n_abort
-/// scans. Chosen on 10 objects, held out on 5 (docs/evaluation.md, "The default planner").
+/// nbs's rule (issue 18): ĉ_m held, settled or stalled (CoverageSettled with its defaults and d̄_m ≥
+/// target_density), or n_abort scans. Chosen on 10 objects, held out on 5 (docs/evaluation.md, "The default planner").
 using SettledTermination = AnyOf<CoverageSettled, MaxScansReached>;
 
 /// CoverageSettled with its defaults and d̄_m ≥ p.target_density. Throws InvalidArgument for invalid parameters.
