@@ -250,15 +250,6 @@ struct Row {
   int transfer_failures = 0;  ///< --robot: failed transfers to other candidates before this scan's
 };
 
-/// c_obs with the simulated scanner's own rule (its working range, any incidence), as nbs_eval computes it.
-nbs::ObservabilitySettings observability_settings(const nbs::LaserStripeProfiler& lsp) {
-  nbs::ObservabilitySettings os;
-  os.min_range_m = lsp.range.min_m;
-  os.max_range_m = lsp.range.max_m;
-  os.incidence_cutoff_rad = nbs::embree::SimulatedScanner::max_incidence_rad;
-  return os;
-}
-
 /// --initial-only: the 13 initial scan paths of Sec. 4.7.2, no planning; metrics of the merged point cloud.
 int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs::GroundTruth& truth,
                      const nbs::embree::SimulatedScanner& scanner) {
@@ -277,7 +268,7 @@ int run_initial_only(const Options& opt, const nbs::IndexedMesh& mesh, const nbs
                 scan.size(), 100.0 * coverage.completeness().c_a());
   }
   write_ply_points(file(opt, "points.ply"), cloud);
-  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp));
+  const Observability obs = truth.observability(scanner.scene(), embree::SimulatedScanner::observability_settings(lsp));
   const Completeness c = coverage.completeness();
   std::printf("points  %zu written to %s\nc_a %6.2f %%  c_b %6.2f %%  c_obs %6.2f %%  e_rms %.3f mm  l_s %.3f m  "
               "time %.1f s\n",
@@ -527,7 +518,7 @@ int run(const Options& opt) {
   if (opt.color && !model.colors.empty())
     color = color_error_split(truth.distance(), model, planner.space().resolution_m(), opt.threads);
   const auto t_obs = std::chrono::steady_clock::now();
-  const Observability obs = truth.observability(scanner.scene(), observability_settings(lsp));
+  const Observability obs = truth.observability(scanner.scene(), embree::SimulatedScanner::observability_settings(lsp));
   const double obs_s = seconds_since(t_obs);
   const Row& fin = rows.back();
   const double runtime = seconds_since(t_start);

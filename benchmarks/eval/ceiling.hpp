@@ -40,11 +40,7 @@ inline constexpr const char* kCObsIncidenceKey = "c_obs_incidence_rad";
 [[nodiscard]] inline double compute_c_obs(const embree::SimulatedScanner& scanner, const GroundTruth& truth,
                                           const LaserStripeProfiler& sensor, unsigned threads, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
-  ObservabilitySettings os;
-  os.min_range_m = sensor.range.min_m;
-  os.max_range_m = sensor.range.max_m;
-  os.incidence_cutoff_rad = embree::SimulatedScanner::max_incidence_rad;
-  os.threads = threads;
+  const ObservabilitySettings os = embree::SimulatedScanner::observability_settings(sensor, 1000, threads);
   const double c_obs = truth.observability(scanner.scene(), os).c_obs();
   log << "nbs_eval: c_obs " << 100.0 * c_obs << " % (" << truth.samples().size() << " samples, incidence up to "
       << os.incidence_cutoff_rad << " rad, "

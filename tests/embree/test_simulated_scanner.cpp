@@ -151,6 +151,24 @@ TEST_CASE("scanner rejects invalid sensors and settings", "[embree][scanner][bad
                   nbs::InvalidArgument);
 }
 
+TEST_CASE("observability_settings: the ceiling's rule is the scanner's — its sensor's working range, any incidence",
+          "[embree][scanner]") {
+  using nbs::embree::SimulatedScanner;
+  auto lsp = noiseless_lsp();
+  lsp.range = {0.12, 0.4};
+  const nbs::ObservabilitySettings os = SimulatedScanner::observability_settings(lsp, 300, 2);
+  CHECK(os.min_range_m == 0.12);
+  CHECK(os.max_range_m == 0.4);
+  CHECK(os.incidence_cutoff_rad == SimulatedScanner::max_incidence_rad);
+  CHECK(os.directions == 300);
+  CHECK(os.threads == 2);
+  CHECK(os.min_sensor_z_m == nbs::embree::ScannerSettings{}.pedestal_top_z_m.value());
+  CHECK(SimulatedScanner::observability_settings(lsp).directions == nbs::ObservabilitySettings{}.directions);
+  CHECK_THROWS_WITH(SimulatedScanner::observability_settings(lsp, 0), Contains("directions"));
+  lsp.range = {0.3, 0.2};
+  CHECK_THROWS_AS(SimulatedScanner::observability_settings(lsp), nbs::InvalidArgument);
+}
+
 TEST_CASE("a two-coloured quad: every point gets the colour of its half; no colour without mesh colours",
           "[embree][scanner][color]") {
   const double z0 = 0.05, h = 0.1;

@@ -17,6 +17,7 @@
 #include "nbs/sensor/area_sensor.hpp"
 #include "nbs/sensor/counter_gaussian.hpp"
 #include "nbs/sensor/laser_stripe_profiler.hpp"
+#include "nbs/sim/observability.hpp"
 #include "nbs/sim/surface_color.hpp"
 
 namespace nbs::embree {
@@ -52,6 +53,23 @@ public:
   /// hit in the working range is measured, however grazing (Sec. 4.7 names no limit; the planner's 70° of Tab. 4.3
   /// is its quality rule). Observability ceilings of scans by this scanner use it (nbs_eval's c_obs does).
   static constexpr double max_incidence_rad = std::numbers::pi / 2.0;
+
+  /// The observability ceiling's settings (GroundTruth::observability, c_obs) for scans by this scanner with
+  /// `sensor`: the sensor's working range and max_incidence_rad, `directions` per sample, `threads` workers (0:
+  /// hardware concurrency); the sensor above z = 0, the default pedestal's top. Throws InvalidArgument for an invalid
+  /// sensor.
+  [[nodiscard]] static ObservabilitySettings observability_settings(const LaserStripeProfiler& sensor,
+                                                                    int directions = 1000, unsigned threads = 0) {
+    sensor.validate();
+    ObservabilitySettings os;
+    os.min_range_m = sensor.range.min_m;
+    os.max_range_m = sensor.range.max_m;
+    os.incidence_cutoff_rad = max_incidence_rad;
+    os.directions = directions;
+    os.threads = threads;
+    os.validate();
+    return os;
+  }
 
   /// Builds the Embree scene of `mesh` (see Scene).
   explicit SimulatedScanner(const IndexedMesh& mesh, Settings settings = {})
