@@ -28,6 +28,10 @@
 using namespace nbs;
 using namespace nbs::explore;
 
+// The planner is a template parameter: the modeler compiles with the default planner (SGU_H) too.
+template struct nbs::explore::NbsObjectModeler<nbs::embree::SimulatedScanner, nbs::ProbabilisticVoxelSpace<>,
+                                               nbs::NbsPlanner<>>;
+
 TEST_CASE("explore_scene with Embree: the mug is recognised, the bunny modeled, learned and recognised",
           "[scene][explore][embree]") {
   const auto t0 = std::chrono::steady_clock::now();
@@ -62,6 +66,7 @@ TEST_CASE("explore_scene with Embree: the mug is recognised, the bunny modeled, 
   PpfRecogniser<embree::Scene, Space> recogniser(db, xtion, space, rs);
   OverviewRing<embree::SimulatedScanner, Space> source{&overview_scanner.scanner(), xtion, &space, {}, 1};
   NbsObjectModeler<embree::SimulatedScanner, Space> modeler{&model_scanner, &space, 8, 1, 0, {}, 0};
+  static_assert(ObjectModeler<NbsObjectModeler<embree::SimulatedScanner, Space, NbsPlanner<>>>);
   ExplorationSetting es;
   es.scan_budget = 8;
   es.max_steps = 4;

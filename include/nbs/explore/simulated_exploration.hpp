@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
-/// The parts of the scene-exploration loop (scene_exploration.hpp) for a simulated or real scanner: an
-/// OverviewSource over any area-sensor ScanSimulator (a ring of views around the table), an ObjectModeler that runs
-/// `ThesisPlanner<>` (method C_H, laser stripe profiler) with run_loop on the cluster's box, and a driver wrapper that
-/// feeds every scan into the scene's voxel space (the space v_h is validated against). nbs_explore wires them to
-/// Embree (nbs::embree::SceneScanner, SimulatedScanner). Include planner headers first (planner/detail/components.hpp).
+/// The parts of the scene-exploration loop (scene_exploration.hpp) for a simulated or real scanner: an OverviewSource
+/// over any area-sensor ScanSimulator (a ring of views around the table), an ObjectModeler that runs a planner (default
+/// `ThesisPlanner<>`: method C_H, laser stripe profiler) with run_loop on the cluster's box, and a driver wrapper that
+/// feeds every scan into the scene's voxel space (the space v_h is validated against). nbs_explore wires them to Embree
+/// (nbs::embree::SceneScanner, SimulatedScanner). Include planner headers first (planner/detail/components.hpp).
 
 #include <algorithm>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <numbers>
 #include <optional>
@@ -98,16 +99,17 @@ private:
   }
 };
 
-/// ObjectModeler: `ThesisPlanner<>` (C_H with the thesis's stop, the DLR laser stripe profiler; the scene results of
-/// docs/evaluation.md rest on it — with the default SGU_H the Embree scene test's learned bunny, modeled with all 8
-/// scans, was not recognised in the last step, not yet traced) over the hypothesis box, run_loop with a
-/// SimulatedDriver over `scanner` (noise seed seed + the object's number), every scan also into `space`; n_abort =
-/// min(object_scans, the budget left). The planner's own voxel space covers only the box; with `predict_occlusion`
-/// (default) its simulated beams are cut at the first occupied voxel of the scene's `space` outside the box
-/// (VoxelSpaceOccluder), so that it predicts which views its neighbours hide (Sec. 3.1); without, it does not (as
-/// the thesis's planner, which sees only its box).
-template <class Scanner, VoxelSpace Space>
-  requires ScanSimulator<Scanner, LaserStripeProfiler>
+/// ObjectModeler: `Planner` (default `ThesisPlanner<>`: C_H with the thesis's stop; the scene results of
+/// docs/evaluation.md rest on it; any planner built as NbsPlanner from (Parameters, LaserStripeProfiler, box,
+/// PlannerSetting), e.g. `NbsPlanner<>`, the SGU_H default) with the DLR laser stripe profiler over the hypothesis box,
+/// run_loop with a SimulatedDriver over `scanner` (noise seed seed + the object's number), every scan also into
+/// `space`; n_abort = min(object_scans, the budget left). The planner's own voxel space covers only the box; with
+/// `predict_occlusion` (default) its simulated beams are cut at the first occupied voxel of the scene's `space` outside
+/// the box (VoxelSpaceOccluder), so that it predicts which views its neighbours hide (Sec. 3.1); without, it does not
+/// (as the thesis's planner, which sees only its box).
+template <class Scanner, VoxelSpace Space, class Planner = ThesisPlanner<>>
+  requires ScanSimulator<Scanner, LaserStripeProfiler> &&
+           std::constructible_from<Planner, Parameters, LaserStripeProfiler, Aabb, PlannerSetting>
 struct NbsObjectModeler {
   const Scanner* scanner;
   Space* space;
@@ -128,7 +130,7 @@ struct NbsObjectModeler {
     ps.threads = threads > 0 ? threads : std::max(1U, std::thread::hardware_concurrency());
     ps.seed = seed;
     if (predict_occlusion) ps.occluder = VoxelSpaceOccluder<Space>(*space, h.box);
-    ThesisPlanner<> planner(p, presets::dlr_lsp(), h.box, ps);
+    Planner planner(p, presets::dlr_lsp(), h.box, ps);
     using Driver = SimulatedDriver<Scanner, LaserStripeProfiler>;
     SpaceSharingDriver<Driver, Space> driver{Driver(*scanner, planner.sensor(), seed + static_cast<std::uint64_t>(++objects)),
                                              space, ps.threads};
