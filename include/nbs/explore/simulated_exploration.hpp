@@ -100,13 +100,13 @@ private:
 };
 
 /// ObjectModeler: `Planner` (default `ThesisPlanner<>`: C_H with the thesis's stop; the scene results of
-/// docs/evaluation.md rest on it; any planner built as NbsPlanner from (Parameters, LaserStripeProfiler, box,
-/// PlannerSetting), e.g. `NbsPlanner<>`, the SGU_H default) with the DLR laser stripe profiler over the hypothesis box,
-/// run_loop with a SimulatedDriver over `scanner` (noise seed seed + the object's number), every scan also into
-/// `space`; n_abort = min(object_scans, the budget left). The planner's own voxel space covers only the box; with
-/// `predict_occlusion` (default) its simulated beams are cut at the first occupied voxel of the scene's `space` outside
-/// the box (VoxelSpaceOccluder), so that it predicts which views its neighbours hide (Sec. 3.1); without, it does not
-/// (as the thesis's planner, which sees only its box).
+/// docs/evaluation.md rest on it; `NbsPlanner<>` models the scene test's bunny better, docs/scene.md; any planner built
+/// as NbsPlanner from (Parameters, LaserStripeProfiler, box, PlannerSetting), e.g. `NbsPlanner<>`, the SGU_H default)
+/// with the DLR laser stripe profiler over the hypothesis box, run_loop with a SimulatedDriver over `scanner` (noise
+/// seed seed + the object's number), every scan also into `space`; n_abort = min(object_scans, the budget left). The
+/// planner's own voxel space covers only the box; with `predict_occlusion` (default) its simulated beams are cut at the
+/// first occupied voxel of the scene's `space` outside the box (VoxelSpaceOccluder), so that it predicts which views
+/// its neighbours hide (Sec. 3.1); without, it does not (as the thesis's planner, which sees only its box).
 template <class Scanner, VoxelSpace Space, class Planner = ThesisPlanner<>>
   requires ScanSimulator<Scanner, LaserStripeProfiler> &&
            std::constructible_from<Planner, Parameters, LaserStripeProfiler, Aabb, PlannerSetting>
