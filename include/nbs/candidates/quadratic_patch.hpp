@@ -47,6 +47,7 @@ struct QuadraticPatch {
 /// Coordinates are centred and scaled internally before solving. If the quadratic terms are unobservable (e.g. all
 /// points on one line in x–y) falls back to a plane (rank 3); returns nullopt if not even a plane is determined.
 /// Throws InvalidArgument on size mismatch, non-finite points or invalid weights.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline std::optional<QuadraticPatch> fit_quadratic_patch(std::span<const Vec3> points,
                                                                        std::span<const double> weights) {
   detail::require(points.size() == weights.size(), "fit_quadratic_patch: ", points.size(), " points but ",

@@ -75,6 +75,7 @@ struct ModelAlignment {
 /// points, moved by the hypothesis, registered to a's points; a refused refinement keeps the hypothesis); the one
 /// with the highest inlier fraction wins (ties: the better voted). Score 0 and T_ab identity if no pair voted.
 /// Deterministic. Throws InvalidArgument for invalid models or setting (PpfModel's limits on model a included).
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline ModelAlignment align_models(const OrientedPoints& a, const OrientedPoints& b,
                                                  const ModelAlignmentSetting& setting = {}) {
   setting.validate();

@@ -44,6 +44,7 @@ struct PoseClusterSetting {
 
 /// The weighted mean rotation of `rotations` (≥ 1): the unit eigenvector of the largest eigenvalue of Σ w q qᵀ
 /// (sign-free), returned with w ≥ 0. `weights`: empty (all 1) or one finite weight ≥ 0 per rotation, sum > 0.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline Mat3 mean_rotation(const std::vector<Mat3>& rotations, const std::vector<double>& weights = {}) {
   detail::require(!rotations.empty(), "mean_rotation: no rotations");
   detail::require(weights.empty() || weights.size() == rotations.size(), "mean_rotation: ", weights.size(),
@@ -64,6 +65,7 @@ struct PoseClusterSetting {
 /// the clusters by descending summed score (ties: seed order), each with the score-weighted mean pose of its members
 /// (unweighted if all its scores are 0). Deterministic. Throws InvalidArgument if the setting is invalid or a score
 /// is not finite and ≥ 0.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline std::vector<PoseHypothesis> cluster_poses(const std::vector<PoseHypothesis>& hypotheses,
                                                                const PoseClusterSetting& setting = {}) {
   setting.validate();

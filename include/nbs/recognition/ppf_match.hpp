@@ -47,6 +47,7 @@ struct PpfMatchSetting {
 /// for (m_r, α = α_s − α_m) in a (model point × angle bin) accumulator with ⌈2π / d_angle⌉ bins; the highest cells
 /// give T_SM = (R_{s→g}, s_r)⁻¹ · R_x(α) · (R_{m→g}, m_r). Empty if no pair votes. Throws InvalidArgument if the scene
 /// or setting is invalid.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline std::vector<PoseHypothesis> match_ppf(const PpfModel& model, const OrientedPoints& scene,
                                                            const PpfMatchSetting& setting = {}) {
   setting.validate();

@@ -57,6 +57,7 @@ struct RefinedPose {
 /// database mesh) against `cluster` (an area-sensor Scan holding only the cluster's points, world frame; its profile
 /// pose orients the estimated normals): Icp registers the cluster to the placed model, C · cluster ≈ T_WM · model,
 /// so the refined pose is C⁻¹ · T_WM. Throws InvalidArgument for an invalid model, pose, scan or setting.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline RefinedPose refine_pose(const OrientedPoints& model, const Pose& model_pose, const Scan& cluster,
                                              const IcpSetting& setting = recognition_icp_setting()) {
   model.validate("refine_pose: model");

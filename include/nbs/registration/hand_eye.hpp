@@ -123,6 +123,7 @@ namespace detail::hand_eye {
 }
 
 /// The rotation nearest to M in the Frobenius norm (SVD polar factor, det = +1).
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline Mat3 nearest_rotation(const Mat3& M) {
   const Eigen::JacobiSVD<Mat3> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Mat3 D = Mat3::Identity();
@@ -226,6 +227,7 @@ private:
 };
 
 /// Levenberg–Marquardt (Marquardt's diagonal scaling) from `s`; returns the iterations run.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 inline int refine_hand_eye(HandEyeState& s, const HandEyeProblem& problem, int max_iterations) {
   using Vec12 = Eigen::Matrix<double, 12, 1>;
   using Mat12 = Eigen::Matrix<double, 12, 12>;
@@ -271,6 +273,7 @@ inline int refine_hand_eye(HandEyeState& s, const HandEyeProblem& problem, int m
 
 }  // namespace detail::hand_eye
 
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std::span<const Pose> target_poses,
                                         const HandEyeSetting& setting) {
   setting.validate();

@@ -34,6 +34,7 @@ struct ScanNormalSetting {
 /// one stripe profile: radius_m must exceed the profile spacing), or if it lies more than 2²⁰ cells from the box
 /// minimum. Cost O(n) (hashed cells, moments summed per cell, one 3 × 3 eigen-solve per occupied cell); deterministic.
 /// Throws InvalidArgument for a radius that is not finite and > 0.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline std::vector<Vec3> estimate_scan_normals(const Scan& scan, const ScanNormalSetting& s) {
   detail::require_positive("scan normal radius_m", s.radius_m);
   std::vector<Vec3> normals(scan.size(), Vec3::Zero());

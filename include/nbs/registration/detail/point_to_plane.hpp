@@ -34,6 +34,7 @@ struct PointToPlaneStep {
 /// unknowns are scaled by the RMS distance L of the q from c (unknowns L·ω and t, both metres), so that the
 /// condition compares rotation and translation on the scale of the correspondences. `update` is the exact rigid
 /// motion of the solution; it is identity when the system is singular (condition 0). `c` must not be empty.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline PointToPlaneStep point_to_plane_step(const std::vector<PlaneCorrespondence>& c) {
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Vec6 = Eigen::Matrix<double, 6, 1>;
