@@ -10,7 +10,8 @@
 #      CMAKE_DISABLE_FIND_PACKAGE_octomap, which also takes fcl; libpng and urdfdom hidden likewise), fail naming the
 #      component and the reason; the same as OPTIONAL_COMPONENTS configures and says which one is missing;
 #   1b. runs the installed tools from the moved prefix (nbs_model loads the installed demo mesh);
-#   4. pkg-config: compiles and runs tests/downstream/main.cpp (core only) with `pkg-config --cflags --libs nbs`.
+#   4. pkg-config: compiles and runs tests/downstream/main.cpp (core only: -DNBS_DOWNSTREAM_PKGCONFIG includes the core
+#      check's headers, not the umbrella) with `pkg-config --cflags --libs nbs`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -79,6 +80,6 @@ echo "optional_component: configures and reports the missing one"
 
 export PKG_CONFIG_PATH=$prefix/share/pkgconfig
 # shellcheck disable=SC2046
-g++ -std=c++20 -O1 tests/downstream/main.cpp -o "$work/nbs_pkgconfig" $(pkg-config --cflags --libs nbs)
+g++ -std=c++20 -O1 -DNBS_DOWNSTREAM_PKGCONFIG tests/downstream/main.cpp -o "$work/nbs_pkgconfig" $(pkg-config --cflags --libs nbs)
 "$work/nbs_pkgconfig" | sed 's/^/pkg-config: /'
 echo "PACKAGE OK"
