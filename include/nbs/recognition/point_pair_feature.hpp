@@ -66,7 +66,6 @@ struct PpfQuantizer {
 
 /// The rotation R with R · n = +x for a unit normal n (the rotational part of Drost's T_{m→g}; the translation
 /// is −R · p). For n = −x, a rotation by π about z.
-template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline Mat3 align_normal_to_x(const Vec3& n) {
   return Eigen::Quaterniond::FromTwoVectors(n, Vec3::UnitX()).toRotationMatrix();
 }

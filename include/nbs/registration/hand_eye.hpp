@@ -104,6 +104,7 @@ struct HandEyeResult {
 /// Throws InvalidArgument (naming the problem and the value) if the sizes differ, fewer than 3 pairs are given, a
 /// pose is not finite and rigid (naming its index), the setting is invalid, or the poses cannot determine X
 /// (degeneracy rule). Pure function, thread-safe. Cost: O(N²) for the closed form, O(N) per iteration.
+template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std::span<const Pose> target_poses,
                                                const HandEyeSetting& setting = {});
 
@@ -273,7 +274,7 @@ inline int refine_hand_eye(HandEyeState& s, const HandEyeProblem& problem, int m
 
 }  // namespace detail::hand_eye
 
-template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
+template <class>
 inline HandEyeResult calibrate_hand_eye(std::span<const Pose> flange_poses, std::span<const Pose> target_poses,
                                         const HandEyeSetting& setting) {
   setting.validate();

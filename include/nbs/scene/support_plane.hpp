@@ -69,7 +69,6 @@ inline void require_finite_cloud(std::span<const Vec3> points, const char* who) 
 
 namespace impl {
 /// Least-squares plane through `points[idx]` (normal = eigenvector of the smallest covariance eigenvalue), n_z ≥ 0.
-template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline Plane fit_plane_pca(std::span<const Vec3> points, std::span<const std::size_t> idx) {
   Vec3 c = Vec3::Zero();
   for (auto i : idx) c += points[i];

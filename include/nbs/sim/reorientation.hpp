@@ -218,7 +218,6 @@ inline Placement evaluate_down(const IndexedMesh& mesh, const std::vector<char>&
 /// FromTwoVectors loses precision for nearly opposite vectors (s = √(2(1 + c)) cancels, the quaternion is not
 /// re-normalised: |q|² − 1 ≈ 1e-5 µrad from +z), so a `down` with z > 0.9 is first turned onto +z and then by π
 /// about x. Below that the direct rotation is accurate and kept as it was (published runs stay reproducible).
-template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 inline Mat3 rotation_down(const Vec3& down) {
   if (down.z() > 0.9) {
     const Mat3 to_up = Eigen::Quaterniond::FromTwoVectors(down, Vec3::UnitZ()).normalized().toRotationMatrix();

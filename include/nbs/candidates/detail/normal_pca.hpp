@@ -19,7 +19,6 @@ namespace nbs::detail {
 
 /// Eigenvalues λ1 ≥ λ2 ≥ λ3 of M = (1/k) Σ n̂_i n̂_iᵀ over the non-zero `normals` (normalised first); λ1 + λ2 + λ3 = 1.
 /// Zero vector if no normal is non-zero.
-template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline Vec3 normal_eigenvalues(std::span<const Vec3> normals) {
   Mat3 m = Mat3::Zero();
   std::size_t k = 0;

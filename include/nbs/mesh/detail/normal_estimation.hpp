@@ -62,7 +62,6 @@ struct NormalEstimate {
 /// points dominate). The normal is flipped so that normal · line_of_sight < 0 (it points back to the sensor).
 /// Non-robust when a threshold of `rb` fails or the line of sight is (almost) parallel to the tangent plane
 /// (|cos| < 0.02).
-template <class = void>  // lazy: instantiated where called, not where included (docs/robustness.md)
 [[nodiscard]] inline NormalEstimate estimate_normal(std::span<const Vec3> points, std::span<const double> weights,
                                                     const Vec3& line_of_sight, const NormalRobustness& rb) {
   NormalEstimate out;
