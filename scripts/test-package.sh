@@ -11,7 +11,8 @@
 #      component and the reason; the same as OPTIONAL_COMPONENTS configures and says which one is missing;
 #   1b. runs the installed tools from the moved prefix (nbs_model loads the installed demo mesh);
 #   4. pkg-config: compiles and runs tests/downstream/main.cpp (core only: -DNBS_DOWNSTREAM_PKGCONFIG includes the core
-#      check's headers, not the umbrella) with `pkg-config --cflags --libs nbs`.
+#      check's headers and one header of each library nbs.pc requires, not the umbrella) with
+#      `pkg-config --cflags --libs nbs`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
